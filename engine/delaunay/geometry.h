@@ -1,0 +1,33 @@
+// Measures of a pentatope in double precision (ALGORITHM.md, "Measures"). These decide quality,
+// not topology, so they need robustness (pivoting, no catastrophic formulas), not exactness.
+#pragma once
+
+#include <array>
+
+#include "delaunay/point4.h"
+
+namespace mesh4d::delaunay {
+
+using Simplex4 = std::array<Point4, 5>;
+
+/// Center of the 3-sphere through the five vertices. For a flat simplex (no unique sphere) every
+/// coordinate is infinite.
+Point4 circumcenter(const Simplex4& s);
+
+/// Distance from the circumcenter to the vertices (infinite for a flat simplex).
+double circumradius(const Simplex4& s);
+
+/// Length of the shortest of the ten edges.
+double shortest_edge(const Simplex4& s);
+
+/// Circumradius over shortest edge. The regular pentatope has the smallest value, √(2/5) ≈ 0.632.
+double radius_edge_ratio(const Simplex4& s);
+
+/// Signed 4-volume: det[p1-p0, p2-p0, p3-p0, p4-p0] / 24.
+double signed_volume(const Simplex4& s);
+
+/// Volume over the volume of the regular pentatope with the same circumradius,
+/// 384·|V| / (25·√5·R⁴): 1 for the regular pentatope, 0 for a flat one.
+double normalized_volume(const Simplex4& s);
+
+}  // namespace mesh4d::delaunay

@@ -1,0 +1,206 @@
+// Point location and Bowyer–Watson insertion.
+#include "delaunay/triangulation.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <stdexcept>
+
+#include "delaunay/predicates.h"
+#include "delaunay/spatial_sort.h"
+
+namespace mesh4d::delaunay {
+
+Triangulation::Triangulation(unsigned block_shift) : store_(block_shift) {}
+
+std::size_t Triangulation::number_of_finite_cells() const {
+  std::size_t n = 0;
+  for (CellId c = 0; c < store_.cell_slots(); ++c)
+    if (store_.is_live(c) && !store_.is_infinite(c)) ++n;
+  return n;
+}
+
+std::uint32_t Triangulation::next_stamp() {
+  // Stamps come in pairs (in conflict, rejected) and only grow, so an old stamp never matches.
+  // On wrap-around every stamp is cleared once.
+  if (stamp_ >= 0xFFFFFFF0u) {
+    for (CellId c = 0; c < store_.cell_slots(); ++c) store_.cell(c).mark = 0;
+    stamp_ = 0;
+  }
+  stamp_ += 2;
+  return stamp_;
+}
+
+int Triangulation::orient_with(CellId c, int i, const Point4& p) const {
+  const Pentatope& cell = store_.cell(c);
+  const Point4* q[5];
+  for (int k = 0; k < 5; ++k) q[k] = (k == i) ? &p : &store_.point(cell.v[k]);
+  return orient4(*q[0], *q[1], *q[2], *q[3], *q[4]);
+}
+
+bool Triangulation::in_conflict(CellId c, const Point4& p, VertexId pid) const {
+  const Pentatope& cell = store_.cell(c);
+  const int inf = store_.index_of(c, kInfiniteVertex);
+  if (inf < 0) {
+    const Point4* s[5];
+    for (int k = 0; k < 5; ++k) s[k] = &store_.point(cell.v[k]);
+    return insphere4_sos(s, cell.v, p, pid) > 0;
+  }
+  // An infinite pentatope's "circumsphere" is the open half-space beyond its hull facet; on the
+  // facet's hyperplane it is the facet's circumsphere, which is where the finite neighbor's
+  // circumsphere meets that hyperplane (and carries the same tie-break).
+  const int o = orient_with(c, inf, p);
+  if (o != 0) return o > 0;
+  return in_conflict(cell.n[inf], p, pid);
+}
+
+CellId Triangulation::locate(const Point4& p, CellId hint) const {
+  CellId c = (hint != kNoCell && store_.is_live(hint)) ? hint : any_cell_;
+  if (store_.is_infinite(c)) c = store_.cell(c).n[store_.index_of(c, kInfiniteVertex)];
+  CellId previous = kNoCell;
+  // Stochastic visibility walk: cross any facet that separates p from the pentatope, trying the
+  // facets from a random start so that the walk cannot cycle.
+  while (true) {
+    walk_rng_ ^= walk_rng_ << 13;
+    walk_rng_ ^= walk_rng_ >> 7;
+    walk_rng_ ^= walk_rng_ << 17;
+    const int first = static_cast<int>(walk_rng_ % 5);
+    const Pentatope& cell = store_.cell(c);
+    CellId next = kNoCell;
+    for (int k = 0; k < 5; ++k) {
+      const int i = (first + k) % 5;
+      if (cell.n[i] == previous) continue;  // p is on the other side of the facet we came from
+      if (orient_with(c, i, p) < 0) {
+        next = cell.n[i];
+        break;
+      }
+    }
+    if (next == kNoCell) return c;
+    previous = c;
+    c = next;
+    if (store_.is_infinite(c)) return c;  // p is strictly beyond this hull facet
+  }
+}
+
+void Triangulation::find_cavity(const Point4& p, VertexId pid, CellId start, Cavity& cavity) {
+  const std::uint32_t in_cavity = next_stamp();
+  const std::uint32_t rejected = in_cavity + 1;
+  cavity.cells.clear();
+  cavity.boundary.clear();
+  store_.cell(start).mark = in_cavity;
+  cavity.cells.push_back(start);
+  // Breadth-first over the cavity; each neighbor is tested at most once per search thanks to the
+  // stamps (a rejecting neighbor shared by several cavity pentatopes is not tested again).
+  for (std::size_t k = 0; k < cavity.cells.size(); ++k) {
+    const CellId c = cavity.cells[k];
+    for (int i = 0; i < 5; ++i) {
+      const CellId d = store_.cell(c).n[i];
+      Pentatope& neighbor = store_.cell(d);
+      if (neighbor.mark == in_cavity) continue;
+      if (neighbor.mark != rejected) {
+        if (in_conflict(d, p, pid)) {
+          neighbor.mark = in_cavity;
+          cavity.cells.push_back(d);
+          continue;
+        }
+        neighbor.mark = rejected;
+      }
+      cavity.boundary.push_back({c, i});
+    }
+  }
+}
+
+CellId Triangulation::commit(const Cavity& cavity, VertexId pid) {
+  const std::uint32_t in_cavity = store_.cell(cavity.cells.front()).mark;
+  // Pass 1: one new pentatope per boundary facet (the facet joined to the new vertex, in the
+  // slot of the vertex it replaces, which keeps the orientation positive). The cavity
+  // pentatope's neighbor slot is overwritten with the new pentatope: pass 2 reads it there.
+  std::vector<CellId>& created = created_;
+  created.clear();
+  for (const Cavity::Facet& f : cavity.boundary) {
+    Pentatope& old_cell = store_.cell(f.cell);
+    VertexId v[5] = {old_cell.v[0], old_cell.v[1], old_cell.v[2], old_cell.v[3], old_cell.v[4]};
+    v[f.index] = pid;
+    const CellId outside = old_cell.n[f.index];
+    const CellId n = store_.create_cell(v);
+    store_.cell(n).n[f.index] = outside;
+    Pentatope& out = store_.cell(outside);
+    out.n[store_.neighbor_index(outside, f.cell)] = n;
+    store_.cell(f.cell).n[f.index] = n;
+    created.push_back(n);
+  }
+
+  // Pass 2: link the new pentatopes to each other. The facet of new pentatope N (made from
+  // facet i of cavity pentatope c) opposite c.v[j] contains the new vertex and the triangle
+  // t = c minus {v_i, v_j}. Turning around t through the cavity from c leads to the other
+  // boundary facet that contains t; the new pentatope made from it is the neighbor.
+  for (std::size_t k = 0; k < cavity.boundary.size(); ++k) {
+    const Cavity::Facet& f = cavity.boundary[k];
+    const CellId n = created[k];
+    for (int j = 0; j < 5; ++j) {
+      if (j == f.index || store_.cell(n).n[j] != kNoCell) continue;
+      CellId x = f.cell;
+      VertexId a = store_.cell(f.cell).v[j];
+      VertexId b = store_.cell(f.cell).v[f.index];
+      while (true) {
+        const int ia = store_.index_of(x, a);
+        const CellId y = store_.cell(x).n[ia];
+        if (store_.cell(y).mark != in_cavity) {
+          // y is the new pentatope made from facet ia of x; its vertex opposite the shared
+          // facet is b, in the same slot as in x.
+          store_.cell(n).n[j] = y;
+          store_.cell(y).n[store_.index_of(x, b)] = n;
+          break;
+        }
+        const VertexId w = store_.cell(y).v[store_.neighbor_index(y, x)];
+        a = b;
+        b = w;
+        x = y;
+      }
+    }
+  }
+
+  for (CellId n : created)
+    for (VertexId u : store_.cell(n).v) store_.vertex(u).cell = n;
+  for (CellId c : cavity.cells) store_.destroy_cell(c);
+  any_cell_ = created.front();
+  return created.front();
+}
+
+Triangulation::InsertResult Triangulation::insert(const Point4& p, VertexKind kind, CellId hint) {
+  for (double x : p)
+    if (!std::isfinite(x)) throw std::invalid_argument("Triangulation::insert: non-finite point");
+  if (dimension_ < 4) return insert_pending(p, kind);
+
+  const CellId located = locate(p, hint);
+  if (!store_.is_infinite(located)) {
+    for (VertexId u : store_.cell(located).v)
+      if (store_.point(u) == p) return {u, false, located};
+  }
+  const VertexId v = store_.add_vertex(p, kind);
+  ++vertex_count_;
+  Cavity& cavity = scratch_cavity_;
+  find_cavity(p, v, located, cavity);
+  const CellId c = commit(cavity, v);
+  return {v, true, c};
+}
+
+void Triangulation::insert_vertex_into_mesh(VertexId v, CellId hint, CellId* last) {
+  const Point4 p = store_.point(v);
+  const CellId located = locate(p, hint);
+  find_cavity(p, v, located, scratch_cavity_);
+  *last = commit(scratch_cavity_, v);
+}
+
+std::vector<VertexId> Triangulation::insert_all(std::span<const Point4> points, VertexKind kind) {
+  std::vector<VertexId> ids(points.size(), kNoVertex);
+  CellId hint = kNoCell;
+  for (std::size_t i : spatial_order(points)) {
+    const InsertResult r = insert(points[i], kind, hint);
+    ids[i] = r.vertex;
+    if (r.cell != kNoCell) hint = r.cell;
+  }
+  return ids;
+}
+
+}  // namespace mesh4d::delaunay

@@ -1,0 +1,137 @@
+// Vertex removal (the refiner's R5): the hole left by a vertex's star is filled with the
+// pentatopes of the Delaunay triangulation of its link that conflict with the removed vertex.
+//
+// Why that is right: the star of v in DT(P) is also the star of v in DT(link ∪ {v}); inserting v
+// into DT(link) replaces exactly its conflict region by that star, so the conflict region fills
+// the hole, and its pentatopes are Delaunay in P \ {v}. The local triangulation uses the same
+// perturbation (vertices inserted oldest first keep the global age order), so the glued result
+// is the unique perturbed Delaunay triangulation of the remaining vertices.
+#include <algorithm>
+#include <array>
+#include <map>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "delaunay/predicates.h"
+#include "delaunay/triangulation.h"
+
+namespace mesh4d::delaunay {
+namespace {
+
+using FacetKey = std::array<VertexId, 4>;
+
+FacetKey facet_key(const Pentatope& cell, int opposite) {
+  FacetKey key;
+  for (int i = 0, k = 0; i < 5; ++i)
+    if (i != opposite) key[k++] = cell.v[i];
+  std::sort(key.begin(), key.end());
+  return key;
+}
+
+}  // namespace
+
+void Triangulation::collect_star(VertexId v, std::vector<CellId>& star) const {
+  star.clear();
+  star.push_back(store_.vertex(v).cell);
+  // Neighbors across facets that contain v are incident to v too; a linear search is fine here:
+  // a star has some 30 to 150 pentatopes.
+  for (std::size_t k = 0; k < star.size(); ++k) {
+    const Pentatope& cell = store_.cell(star[k]);
+    for (int i = 0; i < 5; ++i) {
+      if (cell.v[i] == v) continue;
+      const CellId d = cell.n[i];
+      if (std::find(star.begin(), star.end(), d) == star.end()) star.push_back(d);
+    }
+  }
+}
+
+bool Triangulation::remove(VertexId v) {
+  if (dimension_ < 4 || v == kInfiniteVertex || v >= store_.vertex_slots()) return false;
+  const Vertex& vertex = store_.vertex(v);
+  if (vertex.kind == VertexKind::removed || vertex.cell == kNoCell) return false;
+
+  std::vector<CellId> star;
+  collect_star(v, star);
+  std::vector<VertexId> link;
+  for (CellId c : star) {
+    if (store_.is_infinite(c)) return false;  // a hull vertex: the hole would not be closed
+    for (VertexId u : store_.cell(c).v)
+      if (u != v) link.push_back(u);
+  }
+  std::sort(link.begin(), link.end());
+  link.erase(std::unique(link.begin(), link.end()), link.end());
+
+  // The local Delaunay triangulation of the link, oldest vertex first: local id k+1 is link[k].
+  Triangulation local(8);
+  CellId hint = kNoCell;
+  for (VertexId u : link) {
+    const InsertResult r = local.insert(store_.point(u), VertexKind::free, hint);
+    if (r.cell != kNoCell) hint = r.cell;
+  }
+  auto global_id = [&](VertexId local_id) {
+    return local_id == kInfiniteVertex ? kInfiniteVertex : link[local_id - 1];
+  };
+
+  // Local pentatopes in conflict with v (under the global ids) fill the hole. v lies strictly
+  // inside the hull of its link, so no infinite local pentatope can conflict with it.
+  const Point4 p = vertex.point;
+  std::unordered_map<CellId, CellId> to_global;  // local pentatope -> new global pentatope
+  std::vector<CellId> fill;
+  const PentatopeStore& ls = local.store();
+  for (CellId c = 0; c < ls.cell_slots(); ++c) {
+    if (!ls.is_live(c) || ls.is_infinite(c)) continue;
+    const Pentatope& cell = ls.cell(c);
+    const Point4* s[5];
+    VertexId ids[5];
+    for (int i = 0; i < 5; ++i) {
+      ids[i] = global_id(cell.v[i]);
+      s[i] = &store_.point(ids[i]);
+    }
+    if (insphere4_sos(s, ids, p, v) > 0) fill.push_back(c);
+  }
+
+  // The hole's boundary: facets of the star opposite v, with the pentatope outside each.
+  std::map<FacetKey, std::pair<CellId, int>> boundary;
+  for (CellId c : star) {
+    const int iv = store_.index_of(c, v);
+    const CellId outside = store_.cell(c).n[iv];
+    boundary[facet_key(store_.cell(c), iv)] = {outside, store_.neighbor_index(outside, c)};
+  }
+
+  // Create the new pentatopes, then link them to each other and to the hole's boundary.
+  for (CellId c : fill) {
+    VertexId ids[5];
+    for (int i = 0; i < 5; ++i) ids[i] = global_id(ls.cell(c).v[i]);
+    to_global[c] = store_.create_cell(ids);
+  }
+  std::size_t glued = 0;
+  for (CellId c : fill) {
+    const CellId g = to_global[c];
+    for (int i = 0; i < 5; ++i) {
+      const auto inner = to_global.find(ls.cell(c).n[i]);
+      if (inner != to_global.end()) {
+        store_.cell(g).n[i] = inner->second;
+        continue;
+      }
+      const auto outer = boundary.find(facet_key(store_.cell(g), i));
+      if (outer == boundary.end())
+        throw std::logic_error("Triangulation::remove: link triangulation does not fit the hole");
+      store_.cell(g).n[i] = outer->second.first;
+      store_.cell(outer->second.first).n[outer->second.second] = g;
+      ++glued;
+    }
+  }
+  if (glued != boundary.size())
+    throw std::logic_error("Triangulation::remove: hole boundary not closed");
+
+  for (const auto& [local_cell, g] : to_global)
+    for (VertexId u : store_.cell(g).v) store_.vertex(u).cell = g;
+  for (CellId c : star) store_.destroy_cell(c);
+  store_.vertex(v).cell = kNoCell;
+  store_.vertex(v).kind = VertexKind::removed;
+  --vertex_count_;
+  any_cell_ = to_global.begin()->second;
+  return true;
+}
+
+}  // namespace mesh4d::delaunay
