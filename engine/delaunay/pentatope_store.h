@@ -49,17 +49,45 @@ class PentatopeStore {
   const Point4& point(VertexId v) const { return vertices_[v].point; }
 
   /// A pentatope with the given vertices, neighbors unset (kNoCell) and mark 0.
-  CellId create_cell(const VertexId v[5]);
-  void destroy_cell(CellId c);
+  CellId create_cell(const VertexId v[5]) {
+    const Pentatope cell{
+        {v[0], v[1], v[2], v[3], v[4]}, {kNoCell, kNoCell, kNoCell, kNoCell, kNoCell}, 0};
+    ++live_cells_;
+    if (free_head_ != kNoCell) {
+      const CellId c = free_head_;
+      free_head_ = cells_[c].n[0];
+      cells_[c] = cell;
+      return c;
+    }
+    return static_cast<CellId>(cells_.push_back(cell));
+  }
+  void destroy_cell(CellId c) {
+    Pentatope& cell = cells_[c];
+    cell.v[0] = kNoVertex;
+    cell.n[0] = free_head_;
+    cell.mark = 0;
+    free_head_ = c;
+    --live_cells_;
+  }
 
   VertexId add_vertex(const Point4& p, VertexKind kind);
 
   bool is_live(CellId c) const { return c < cells_.size() && cells_[c].v[0] != kNoVertex; }
-  bool is_infinite(CellId c) const;
+  bool is_infinite(CellId c) const { return index_of(c, kInfiniteVertex) >= 0; }
   /// Slot of vertex v in pentatope c, or -1.
-  int index_of(CellId c, VertexId v) const;
+  int index_of(CellId c, VertexId v) const {
+    const Pentatope& cell = cells_[c];
+    for (int i = 0; i < 5; ++i)
+      if (cell.v[i] == v) return i;
+    return -1;
+  }
   /// Slot i with c.n[i] == neighbor, or -1.
-  int neighbor_index(CellId c, CellId neighbor) const;
+  int neighbor_index(CellId c, CellId neighbor) const {
+    const Pentatope& cell = cells_[c];
+    for (int i = 0; i < 5; ++i)
+      if (cell.n[i] == neighbor) return i;
+    return -1;
+  }
 
   std::size_t cell_slots() const { return cells_.size(); }  // live + free
   std::size_t live_cells() const { return live_cells_; }

@@ -1,8 +1,10 @@
-// Filtered exact predicates: a double evaluation with a per-call error bound, then CGAL::Mpzf.
+// Filtered exact predicates in four stages: a semi-static double filter (bound from column
+// maxima), a dynamic double filter (bound from the absolute-value expression), interval
+// arithmetic, and finally CGAL::Mpzf, exact on doubles.
 //
-// Why a dynamic bound: each determinant is evaluated once in double together with the same
-// expression on absolute values (subtractions turned into additions). For an expression tree of
-// depth d, the rounding error is at most γ_d = dε/(1-dε) times that absolute value (Higham,
+// Why a dynamic bound as second stage: each determinant is evaluated once in double together with
+// the same expression on absolute values (subtractions turned into additions). For an expression
+// tree of depth d, the rounding error is at most γ_d = dε/(1-dε) times that absolute value (Higham,
 // "Accuracy and Stability of Numerical Algorithms", §3.1). The bound is tight on well-shaped input,
 // so the exact path runs only on near-degenerate configurations (grids, co-spherical points).
 #include "delaunay/predicates.h"
@@ -10,6 +12,7 @@
 #include <CGAL/Interval_nt.h>
 #include <CGAL/Mpzf.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 
@@ -143,9 +146,71 @@ inline int filtered_sign(const Bounded& r, bool in_range, double coef) {
   return kUndecided;
 }
 
+// Stage 1, semi-static filters: the determinant in plain double, bounded by the column maxima.
+// Every monomial of the expansion takes one entry per column, so the absolute-value expression
+// is at most (number of monomials) × Π column maxima; the bound is looser than stage 2's but
+// costs a handful of comparisons. Guards: column maxima ≤ 1e30 (no overflow) and a bound
+// ≥ 1e-150 (any underflow error, ≤ 1e-170 after amplification, stays far below it).
+constexpr double kSemiStaticMaxColumn = 1e30;
+constexpr double kSemiStaticMinBound = 1e-150;
+constexpr double kOrientSemiCoef = 24 * (kOrientDepth + 8) * DBL_EPSILON / 2;
+constexpr double kInsphereSemiCoef = 120 * (kInsphereDepth + 8) * DBL_EPSILON / 2;
+
+inline int semi_static_sign(double det, double bound, double max_column) {
+  if (!(max_column <= kSemiStaticMaxColumn) || !(bound >= kSemiStaticMinBound)) return kUndecided;
+  if (det > bound) return 1;
+  if (det < -bound) return -1;
+  return kUndecided;
+}
+
+int orient_semi_static(const Point4* const p[5]) {
+  double m[4][4];
+  double mx[4] = {0, 0, 0, 0};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      m[i][j] = (*p[i + 1])[j] - (*p[0])[j];
+      mx[j] = std::max(mx[j], std::fabs(m[i][j]));
+    }
+  const double det = det4(m);
+  const double bound = kOrientSemiCoef * mx[0] * mx[1] * mx[2] * mx[3];
+  return semi_static_sign(det, bound, std::max(std::max(mx[0], mx[1]), std::max(mx[2], mx[3])));
+}
+
+int insphere_semi_static(const Point4* const s[5], const Point4& q) {
+  double b[5][4], w[5];
+  double mx[4] = {0, 0, 0, 0}, mw = 0;
+  for (int i = 0; i < 5; ++i) {
+    for (int j = 0; j < 4; ++j) {
+      b[i][j] = (*s[i])[j] - q[j];
+      mx[j] = std::max(mx[j], std::fabs(b[i][j]));
+    }
+    w[i] = b[i][0] * b[i][0] + b[i][1] * b[i][1] + b[i][2] * b[i][2] + b[i][3] * b[i][3];
+    mw = std::max(mw, w[i]);
+  }
+  // 2×2 minors of every row pair in columns (x, y) and (z, t), shared by the five 4×4 minors
+  // (generalized Laplace expansion along columns x, y): 40 products instead of 5 × 30.
+  double xy[5][5], zt[5][5];
+  for (int r = 0; r < 5; ++r)
+    for (int c = r + 1; c < 5; ++c) {
+      xy[r][c] = b[r][0] * b[c][1] - b[r][1] * b[c][0];
+      zt[r][c] = b[r][2] * b[c][3] - b[r][3] * b[c][2];
+    }
+  auto minor4 = [&](int a, int bb, int c, int d) {
+    return xy[a][bb] * zt[c][d] - xy[a][c] * zt[bb][d] + xy[a][d] * zt[bb][c] +
+           xy[bb][c] * zt[a][d] - xy[bb][d] * zt[a][c] + xy[c][d] * zt[a][bb];
+  };
+  const double det = w[0] * minor4(1, 2, 3, 4) - w[1] * minor4(0, 2, 3, 4) +
+                     w[2] * minor4(0, 1, 3, 4) - w[3] * minor4(0, 1, 2, 4) +
+                     w[4] * minor4(0, 1, 2, 3);
+  const double bound = kInsphereSemiCoef * mx[0] * mx[1] * mx[2] * mx[3] * mw;
+  return semi_static_sign(det, bound, std::max(std::max(mx[0], mx[1]), std::max(mx[2], mx[3])));
+}
+
 int orient4_of(const Point4* const p[5]) {
   auto& counters = predicate_counters();
   ++counters.orient_calls;
+  const int fast = orient_semi_static(p);
+  if (fast != kUndecided) return fast;
   bool in_range = true;
   const Bounded r = orient_det<Bounded>(p, FilterDiff{&in_range});
   const int s = filtered_sign(r, in_range, kOrientCoef);
@@ -172,6 +237,8 @@ int orient4(const Point4& a, const Point4& b, const Point4& c, const Point4& d, 
 int insphere4(const Point4* const s[5], const Point4& q) {
   auto& counters = predicate_counters();
   ++counters.insphere_calls;
+  const int fast = insphere_semi_static(s, q);
+  if (fast != kUndecided) return fast;
   bool in_range = true;
   const Bounded r = insphere_det<Bounded>(s, q, FilterDiff{&in_range});
   const int sign = filtered_sign(r, in_range, kInsphereCoef);

@@ -101,6 +101,8 @@ void Triangulation::find_cavity(const Point4& p, VertexId pid, CellId start, Cav
         if (in_conflict(d, p, pid)) {
           neighbor.mark = in_cavity;
           cavity.cells.push_back(d);
+          // Its neighbors are tested soon: start their loads now (memory latency dominates).
+          for (CellId far : neighbor.n) __builtin_prefetch(&store_.cell(far));
           continue;
         }
         neighbor.mark = rejected;
@@ -111,7 +113,6 @@ void Triangulation::find_cavity(const Point4& p, VertexId pid, CellId start, Cav
 }
 
 CellId Triangulation::commit(const Cavity& cavity, VertexId pid) {
-  const std::uint32_t in_cavity = store_.cell(cavity.cells.front()).mark;
   // Pass 1: one new pentatope per boundary facet (the facet joined to the new vertex, in the
   // slot of the vertex it replaces, which keeps the orientation positive). The cavity
   // pentatope's neighbor slot is overwritten with the new pentatope: pass 2 reads it there.
@@ -130,32 +131,38 @@ CellId Triangulation::commit(const Cavity& cavity, VertexId pid) {
     created.push_back(n);
   }
 
-  // Pass 2: link the new pentatopes to each other. The facet of new pentatope N (made from
-  // facet i of cavity pentatope c) opposite c.v[j] contains the new vertex and the triangle
-  // t = c minus {v_i, v_j}. Turning around t through the cavity from c leads to the other
-  // boundary facet that contains t; the new pentatope made from it is the neighbor.
-  for (std::size_t k = 0; k < cavity.boundary.size(); ++k) {
-    const Cavity::Facet& f = cavity.boundary[k];
+  // Pass 2: link the new pentatopes to each other. Each facet of a new pentatope that contains
+  // the new vertex is that vertex plus a triangle ("ridge") of the cavity boundary, and each
+  // such ridge lies in exactly two new pentatopes: a small hash table keyed by the ridge's sorted
+  // vertex ids pairs them (BUILD-NOTES: a ridge walk through the old cavity cost more, in cache
+  // misses on the cavity's stamps).
+  // New pentatopes made from two facets of the same cavity pentatope c share the facet that
+  // c's two replaced vertices leave: pair those at once (boundary facets of one pentatope are
+  // consecutive in the cavity), and hash only the rest.
+  for (std::size_t k = 0; k < created.size();) {
+    std::size_t end = k + 1;
+    while (end < created.size() && cavity.boundary[end].cell == cavity.boundary[k].cell) ++end;
+    for (std::size_t a = k; a < end; ++a)
+      for (std::size_t b = a + 1; b < end; ++b) {
+        store_.cell(created[a]).n[cavity.boundary[b].index] = created[b];
+        store_.cell(created[b]).n[cavity.boundary[a].index] = created[a];
+      }
+    k = end;
+  }
+  ridges_.begin(4 * created.size());
+  for (std::size_t k = 0; k < created.size(); ++k) {
     const CellId n = created[k];
+    const int slot_p = cavity.boundary[k].index;
+    Pentatope& cell = store_.cell(n);
     for (int j = 0; j < 5; ++j) {
-      if (j == f.index || store_.cell(n).n[j] != kNoCell) continue;
-      CellId x = f.cell;
-      VertexId a = store_.cell(f.cell).v[j];
-      VertexId b = store_.cell(f.cell).v[f.index];
-      while (true) {
-        const int ia = store_.index_of(x, a);
-        const CellId y = store_.cell(x).n[ia];
-        if (store_.cell(y).mark != in_cavity) {
-          // y is the new pentatope made from facet ia of x; its vertex opposite the shared
-          // facet is b, in the same slot as in x.
-          store_.cell(n).n[j] = y;
-          store_.cell(y).n[store_.index_of(x, b)] = n;
-          break;
-        }
-        const VertexId w = store_.cell(y).v[store_.neighbor_index(y, x)];
-        a = b;
-        b = w;
-        x = y;
+      if (j == slot_p || cell.n[j] != kNoCell) continue;
+      VertexId r[3];
+      for (int i = 0, m = 0; i < 5; ++i)
+        if (i != j && i != slot_p) r[m++] = cell.v[i];
+      const RidgeTable::Match match = ridges_.pair(r, n, j);
+      if (match.cell != kNoCell) {
+        cell.n[j] = match.cell;
+        store_.cell(match.cell).n[match.slot] = n;
       }
     }
   }

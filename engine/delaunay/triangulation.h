@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "delaunay/pentatope_store.h"
+#include "delaunay/ridge_table.h"
 
 namespace mesh4d::delaunay {
 
@@ -101,6 +102,7 @@ class Triangulation {
   std::uint32_t stamp_ = 0;
   Cavity scratch_cavity_;
   std::vector<CellId> created_;  // pentatopes made by the current commit
+  RidgeTable ridges_;
   mutable std::uint64_t walk_rng_ = 0x9e3779b97f4a7c15ull;
 };
 

@@ -1,0 +1,173 @@
+// delaunay_bench: mesh4d's 4D Delaunay insertion against CGAL's dD Delaunay_triangulation
+// (Epick_d<Dimension_tag<4>>), on the same spatially sorted points in one run.
+//
+// Each measurement runs in a forked child so that its peak memory (VmHWM, reset before the run
+// through /proc/self/clear_refs) belongs to that triangulation alone. Prints points/s,
+// pentatopes, peak bytes per pentatope, the ratios, and mesh4d's exact-fallback rate.
+//
+//   delaunay_bench [--max-n N] [--repeats R]     (defaults: 1000000, 3; N ≥ 10⁶ runs once)
+#include <CGAL/Delaunay_triangulation.h>
+#include <CGAL/Epick_d.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "delaunay/predicates.h"
+#include "delaunay/spatial_sort.h"
+#include "delaunay/triangulation.h"
+
+namespace {
+
+using mesh4d::Point4;
+using Kernel = CGAL::Epick_d<CGAL::Dimension_tag<4>>;
+using CgalDelaunay = CGAL::Delaunay_triangulation<Kernel>;
+
+struct Measure {
+  double seconds = 0;
+  double cells = 0;          // finite pentatopes
+  double peak_bytes = 0;     // peak resident memory above the start of the run
+  double exact_percent = 0;  // mesh4d: in-sphere calls that needed the multiprecision path
+};
+
+long status_kb(const char* field) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  const std::size_t n = std::strlen(field);
+  while (std::getline(in, line))
+    if (line.compare(0, n, field) == 0) return std::stol(line.substr(n + 1));
+  return 0;
+}
+
+Measure run_mesh4d(const std::vector<Point4>& pts) {
+  Measure m;
+  const long base = status_kb("VmRSS:");
+  auto& counters = mesh4d::delaunay::predicate_counters();
+  counters = {};
+  const auto t0 = std::chrono::steady_clock::now();
+  mesh4d::delaunay::Triangulation t;
+  mesh4d::delaunay::CellId hint = mesh4d::delaunay::kNoCell;
+  for (const Point4& p : pts) hint = t.insert(p, mesh4d::delaunay::VertexKind::free, hint).cell;
+  m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  m.peak_bytes = 1024.0 * (status_kb("VmHWM:") - base);
+  m.cells = double(t.number_of_finite_cells());
+  m.exact_percent = 100.0 * counters.insphere_exact / std::max<double>(1, counters.insphere_calls);
+  return m;
+}
+
+Measure run_cgal(const std::vector<Point4>& pts) {
+  Measure m;
+  std::vector<Kernel::Point_d> cp;
+  for (const Point4& p : pts) cp.emplace_back(p[0], p[1], p[2], p[3]);
+  const long base = status_kb("VmRSS:");
+  const auto t0 = std::chrono::steady_clock::now();
+  CgalDelaunay dt(4);
+  // One point at a time with the previous cell as hint, the way refinement inserts (CGAL's
+  // range insert would spatially sort again).
+  CgalDelaunay::Full_cell_handle hint;
+  for (const auto& p : cp) {
+    auto v = dt.insert(p, hint);
+    hint = v->full_cell();
+  }
+  m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  m.peak_bytes = 1024.0 * (status_kb("VmHWM:") - base);
+  m.cells = double(dt.number_of_finite_full_cells());
+  return m;
+}
+
+// Runs f in a child process (fresh peak-memory counter) and returns its Measure.
+template <class F>
+Measure in_child(F f) {
+  int fd[2];
+  if (pipe(fd) != 0) return {};
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fd[0]);
+    std::ofstream("/proc/self/clear_refs") << "5";  // resets VmHWM to the current RSS
+    const Measure m = f();
+    if (write(fd[1], &m, sizeof m) != sizeof m) _exit(1);
+    _exit(0);
+  }
+  close(fd[1]);
+  Measure m;
+  if (read(fd[0], &m, sizeof m) != sizeof m) std::fprintf(stderr, "child failed\n");
+  close(fd[0]);
+  waitpid(pid, nullptr, 0);
+  return m;
+}
+
+Measure median(std::vector<Measure> v) {
+  std::sort(v.begin(), v.end(),
+            [](const Measure& a, const Measure& b) { return a.seconds < b.seconds; });
+  return v[v.size() / 2];
+}
+
+void row(const char* input, const std::vector<Point4>& unsorted, int repeats) {
+  std::vector<Point4> pts;
+  for (std::size_t i : mesh4d::delaunay::spatial_order(unsorted)) pts.push_back(unsorted[i]);
+  std::vector<Measure> ours, theirs;
+  for (int r = 0; r < repeats; ++r) {
+    ours.push_back(in_child([&] { return run_mesh4d(pts); }));
+    theirs.push_back(in_child([&] { return run_cgal(pts); }));
+  }
+  const Measure a = median(ours), b = median(theirs);
+  const double n = double(pts.size());
+  std::printf(
+      "| %-14s | %9.0f | %3d | %9.0f | %9.0f | %5.2fx | %10.0f | %10.0f | %5.1f | %5.1f | %6.3f%% "
+      "|\n",
+      input, n, repeats, n / a.seconds, n / b.seconds, b.seconds / a.seconds, a.cells, b.cells,
+      a.peak_bytes / a.cells, b.peak_bytes / b.cells, a.exact_percent);
+  std::fflush(stdout);
+}
+
+std::vector<Point4> uniform(std::size_t n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 100);
+  std::vector<Point4> pts(n);
+  for (auto& p : pts) p = {u(rng), u(rng), u(rng), u(rng)};
+  return pts;
+}
+
+// A k⁴ grid with spacing 1, each coordinate moved by up to ±1e-12: nearly degenerate
+// everywhere, the hard case for floating-point filters.
+std::vector<Point4> jittered_grid(int k, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1e-12, 1e-12);
+  std::vector<Point4> pts;
+  for (int t = 0; t < k; ++t)
+    for (int z = 0; z < k; ++z)
+      for (int y = 0; y < k; ++y)
+        for (int x = 0; x < k; ++x) pts.push_back({x + u(rng), y + u(rng), z + u(rng), t + u(rng)});
+  return pts;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::size_t max_n = 1'000'000;
+  int repeats = 3;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    if (std::strcmp(argv[i], "--max-n") == 0) max_n = std::stoul(argv[i + 1]);
+    if (std::strcmp(argv[i], "--repeats") == 0) repeats = std::stoi(argv[i + 1]);
+  }
+  std::printf(
+      "4D Delaunay insertion, spatially sorted, one point at a time with a hint; medians\n");
+  std::printf(
+      "| input          |         N | runs| mesh4d pt/s | CGAL pt/s | ratio | mesh4d cells | CGAL "
+      "cells | B/cell | CGAL B/cell | exact |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (std::size_t n : {std::size_t{10'000}, std::size_t{100'000}, std::size_t{1'000'000}}) {
+    if (n > max_n) break;
+    row("uniform", uniform(n, 42 + n), n >= 1'000'000 ? 1 : repeats);
+  }
+  const int k = max_n >= 1'000'000 ? 20 : 12;
+  row(("jittered grid " + std::to_string(k) + "^4").c_str(), jittered_grid(k, 7), repeats);
+  return 0;
+}
