@@ -32,12 +32,15 @@ int insphere4(const Point4* const s[5], const Point4& q);
 int insphere4_sos(const Point4* const s[5], const VertexId s_ids[5], const Point4& q,
                   VertexId q_id);
 
-/// How often the floating-point filter could not decide (per thread, since thread start).
-/// Benchmarks report these as the exact-fallback rate.
+/// How far down the filter stages calls went (per thread, since thread start). Benchmarks
+/// report the double-double and multiprecision rates; tests check that degenerate input
+/// really reaches those stages.
 struct PredicateCounters {
   std::uint64_t orient_calls = 0;
-  std::uint64_t orient_exact = 0;
+  std::uint64_t orient_double_double = 0;  // both double filters failed
+  std::uint64_t orient_exact = 0;          // double-double and intervals failed too: Mpzf
   std::uint64_t insphere_calls = 0;
+  std::uint64_t insphere_double_double = 0;
   std::uint64_t insphere_exact = 0;
   std::uint64_t insphere_ties = 0;  // exact zero, resolved symbolically
 };

@@ -149,7 +149,7 @@ CellId Triangulation::commit(const Cavity& cavity, VertexId pid) {
       }
     k = end;
   }
-  ridges_.begin(4 * created.size());
+  ridges_.begin(2 * created.size());  // each ridge is offered twice: at most 2 per new cell
   for (std::size_t k = 0; k < created.size(); ++k) {
     const CellId n = created[k];
     const int slot_p = cavity.boundary[k].index;

@@ -99,7 +99,7 @@ TEST(Orient4, SignOfUnitSimplexAndSwaps) {
 
 TEST(Orient4, MatchesExactReferenceOnRandomAndNearDegenerateInput) {
   std::mt19937_64 rng(12345);
-  const auto before = predicate_counters().orient_exact;
+  const auto before = predicate_counters().orient_double_double;
   for (int trial = 0; trial < 3000; ++trial) {
     Point4 p[5];
     for (int i = 0; i < 4; ++i) p[i] = random_point(rng);
@@ -107,8 +107,8 @@ TEST(Orient4, MatchesExactReferenceOnRandomAndNearDegenerateInput) {
     const Point4* ptrs[5] = {&p[0], &p[1], &p[2], &p[3], &p[4]};
     ASSERT_EQ(orient_of(ptrs), reference_orient(ptrs)) << "seed 12345, trial " << trial;
   }
-  // The near-degenerate cases must have exercised the exact path, or this test proves little.
-  EXPECT_GT(predicate_counters().orient_exact, before);
+  // The near-degenerate cases must have defeated the double filters, or this proves little.
+  EXPECT_GT(predicate_counters().orient_double_double, before);
 }
 
 TEST(Orient4, MatchesExactReferenceOnIntegerGrid) {
@@ -127,6 +127,25 @@ TEST(Orient4, MatchesExactReferenceOnIntegerGrid) {
   EXPECT_GT(zeros, 100);  // grid input is full of exact degeneracies
 }
 
+TEST(Predicates, ExactZerosOfInexactProductsReachTheMultiprecisionStage) {
+  // A repeated point among random doubles: the determinant is exactly zero, but no product is
+  // exact, so neither double-double nor intervals can prove it; only the last stage can.
+  std::mt19937_64 rng(31);
+  auto& counters = predicate_counters();
+  const auto orient_before = counters.orient_exact;
+  const auto insphere_before = counters.insphere_exact;
+  for (int trial = 0; trial < 50; ++trial) {
+    Point4 p[5];
+    for (auto& pt : p) pt = random_point(rng);
+    EXPECT_EQ(orient4(p[0], p[1], p[2], p[3], p[1]), 0);
+    // A simplex with a repeated vertex: two equal rows, so the lifted determinant is zero.
+    const Point4* s[5] = {&p[0], &p[1], &p[2], &p[3], &p[1]};
+    EXPECT_EQ(insphere4(s, p[4]), 0);
+  }
+  EXPECT_GT(counters.orient_exact, orient_before);
+  EXPECT_GT(counters.insphere_exact, insphere_before);
+}
+
 TEST(Insphere4, InsideOnOutside) {
   const Point4* s[5] = {&kUnitSimplex[0], &kUnitSimplex[1], &kUnitSimplex[2], &kUnitSimplex[3],
                         &kUnitSimplex[4]};
@@ -138,7 +157,7 @@ TEST(Insphere4, InsideOnOutside) {
 
 TEST(Insphere4, MatchesExactReferenceOnNearCosphericalInput) {
   std::mt19937_64 rng(4242);
-  const auto before = predicate_counters().insphere_exact;
+  const auto before = predicate_counters().insphere_double_double;
   int checked = 0;
   for (int trial = 0; trial < 3000; ++trial) {
     Point4 p[6];
@@ -151,7 +170,7 @@ TEST(Insphere4, MatchesExactReferenceOnNearCosphericalInput) {
     ++checked;
   }
   EXPECT_GT(checked, 2900);
-  EXPECT_GT(predicate_counters().insphere_exact, before);
+  EXPECT_GT(predicate_counters().insphere_double_double, before);
 }
 
 // Every vertex subset of a small lattice: orientation, exact in-sphere and the tie-break.
