@@ -32,9 +32,11 @@ using CgalDelaunay = CGAL::Delaunay_triangulation<Kernel>;
 
 struct Measure {
   double seconds = 0;
-  double cells = 0;          // finite pentatopes
-  double peak_bytes = 0;     // peak resident memory above the start of the run
-  double exact_percent = 0;  // mesh4d: in-sphere calls that needed the multiprecision path
+  double cells = 0;       // finite pentatopes
+  double peak_bytes = 0;  // peak resident memory above the start of the run
+  // mesh4d: in-sphere calls per inserted point that went past the semi-static filter, that
+  // needed double-double, and that needed multiprecision.
+  double dynamic_per_point = 0, double_double_per_point = 0, exact_per_point = 0;
 };
 
 long status_kb(const char* field) {
@@ -58,7 +60,10 @@ Measure run_mesh4d(const std::vector<Point4>& pts) {
   m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   m.peak_bytes = 1024.0 * (status_kb("VmHWM:") - base);
   m.cells = double(t.number_of_finite_cells());
-  m.exact_percent = 100.0 * counters.insphere_exact / std::max<double>(1, counters.insphere_calls);
+  const double n = double(pts.size());
+  m.dynamic_per_point = counters.insphere_dynamic / n;
+  m.double_double_per_point = counters.insphere_double_double / n;
+  m.exact_per_point = counters.insphere_exact / n;
   return m;
 }
 
@@ -120,10 +125,10 @@ void row(const char* input, const std::vector<Point4>& unsorted, int repeats) {
   const Measure a = median(ours), b = median(theirs);
   const double n = double(pts.size());
   std::printf(
-      "| %-14s | %9.0f | %3d | %9.0f | %9.0f | %5.2fx | %10.0f | %10.0f | %5.1f | %5.1f | %6.3f%% "
-      "|\n",
+      "| %s | %.0f | %d | %.0f | %.0f | %.2fx | %.0f | %.0f | %.1f | %.1f | %.2f / %.3f / %.4f |\n",
       input, n, repeats, n / a.seconds, n / b.seconds, b.seconds / a.seconds, a.cells, b.cells,
-      a.peak_bytes / a.cells, b.peak_bytes / b.cells, a.exact_percent);
+      a.peak_bytes / a.cells, b.peak_bytes / b.cells, a.dynamic_per_point,
+      a.double_double_per_point, a.exact_per_point);
   std::fflush(stdout);
 }
 
@@ -160,8 +165,9 @@ int main(int argc, char** argv) {
   std::printf(
       "4D Delaunay insertion, spatially sorted, one point at a time with a hint; medians\n");
   std::printf(
-      "| input          |         N | runs| mesh4d pt/s | CGAL pt/s | ratio | mesh4d cells | CGAL "
-      "cells | B/cell | CGAL B/cell | exact |\n");
+      "| input | N | runs | mesh4d points/s | CGAL points/s | ratio | mesh4d pentatopes | CGAL "
+      "pentatopes | mesh4d peak B/pentatope | CGAL peak B/pentatope | in-sphere past stage 1 / "
+      "double-double / multiprecision, per point |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (std::size_t n : {std::size_t{10'000}, std::size_t{100'000}, std::size_t{1'000'000}}) {
     if (n > max_n) break;

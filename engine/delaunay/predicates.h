@@ -37,9 +37,11 @@ int insphere4_sos(const Point4* const s[5], const VertexId s_ids[5], const Point
 /// really reaches those stages.
 struct PredicateCounters {
   std::uint64_t orient_calls = 0;
+  std::uint64_t orient_dynamic = 0;        // the semi-static filter failed
   std::uint64_t orient_double_double = 0;  // both double filters failed
   std::uint64_t orient_exact = 0;          // double-double and intervals failed too: Mpzf
   std::uint64_t insphere_calls = 0;
+  std::uint64_t insphere_dynamic = 0;
   std::uint64_t insphere_double_double = 0;
   std::uint64_t insphere_exact = 0;
   std::uint64_t insphere_ties = 0;  // exact zero, resolved symbolically

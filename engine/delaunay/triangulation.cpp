@@ -2,14 +2,33 @@
 #include "delaunay/triangulation.h"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <stdexcept>
 
+#include "delaunay/predicate_kernels.h"
 #include "delaunay/predicates.h"
 #include "delaunay/spatial_sort.h"
 
 namespace mesh4d::delaunay {
+
+namespace {
+
+// kRidgeSlots[a][b]: the three slots of a pentatope other than a and b (a ≠ b), in increasing
+// order: the ridge left when the vertices in slots a and b are taken away.
+constexpr auto kRidgeSlots = [] {
+  std::array<std::array<std::array<int, 3>, 5>, 5> table{};
+  for (int a = 0; a < 5; ++a)
+    for (int b = 0; b < 5; ++b) {
+      int m = 0;
+      for (int i = 0; i < 5 && m < 3; ++i)
+        if (i != a && i != b) table[a][b][m++] = i;
+    }
+  return table;
+}();
+
+}  // namespace
 
 Triangulation::Triangulation(unsigned block_shift) : store_(block_shift) {}
 
@@ -44,6 +63,9 @@ bool Triangulation::in_conflict(CellId c, const Point4& p, VertexId pid) const {
   if (inf < 0) {
     const Point4* s[5];
     for (int k = 0; k < 5; ++k) s[k] = &store_.point(cell.v[k]);
+    // Stage 1 inline decides nearly every call on generic input; the rest take the full chain.
+    const int fast = detail::insphere_semi_static(s, p);
+    if (fast != detail::kUndecided) return fast > 0;
     return insphere4_sos(s, cell.v, p, pid) > 0;
   }
   // An infinite pentatope's "circumsphere" is the open half-space beyond its hull facet; on the
@@ -156,9 +178,8 @@ CellId Triangulation::commit(const Cavity& cavity, VertexId pid) {
     Pentatope& cell = store_.cell(n);
     for (int j = 0; j < 5; ++j) {
       if (j == slot_p || cell.n[j] != kNoCell) continue;
-      VertexId r[3];
-      for (int i = 0, m = 0; i < 5; ++i)
-        if (i != j && i != slot_p) r[m++] = cell.v[i];
+      const auto& slots = kRidgeSlots[slot_p][j];
+      VertexId r[3] = {cell.v[slots[0]], cell.v[slots[1]], cell.v[slots[2]]};
       const RidgeTable::Match match = ridges_.pair(r, n, j);
       if (match.cell != kNoCell) {
         cell.n[j] = match.cell;
