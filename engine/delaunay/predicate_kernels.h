@@ -93,4 +93,8 @@ inline int insphere_semi_static(const Point4* const s[5], const Point4& q) {
   return semi_static_sign(det, bound, std::max(std::max(mx[0], mx[1]), std::max(mx[2], mx[3])));
 }
 
+/// insphere4_sos for a call whose stage 1 already failed: runs stages 2 to 4 and the tie-break.
+int insphere4_sos_past_semi_static(const Point4* const s[5], const VertexId s_ids[5],
+                                   const Point4& q, VertexId q_id);
+
 }  // namespace mesh4d::delaunay::detail

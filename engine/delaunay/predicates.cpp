@@ -171,11 +171,11 @@ int orient4(const Point4& a, const Point4& b, const Point4& c, const Point4& d, 
   return orient4_of(p);
 }
 
-int insphere4(const Point4* const s[5], const Point4& q) {
+namespace {
+
+// Stages 2 to 4 of in-sphere, for a call that stage 1 could not decide.
+int insphere4_past_semi_static(const Point4* const s[5], const Point4& q) {
   auto& counters = predicate_counters();
-  ++counters.insphere_calls;
-  const int fast = insphere_semi_static(s, q);
-  if (fast != kUndecided) return fast;
   ++counters.insphere_dynamic;
   bool in_range = true;
   const Bounded r = insphere_det<Bounded>(s, q, FilterDiff{&in_range});
@@ -194,10 +194,38 @@ int insphere4(const Point4* const s[5], const Point4& q) {
   return sign_of(insphere_det<CGAL::Mpzf>(s, q, ExactDiff{}));
 }
 
+// The symbolic tie-break of an exact zero (see insphere4_sos in the header).
+int insphere4_tie_break(const Point4* const s[5], const VertexId s_ids[5], const Point4& q,
+                        VertexId q_id);
+
+}  // namespace
+
+int insphere4(const Point4* const s[5], const Point4& q) {
+  ++predicate_counters().insphere_calls;
+  const int fast = insphere_semi_static(s, q);
+  if (fast != kUndecided) return fast;
+  return insphere4_past_semi_static(s, q);
+}
+
+int detail::insphere4_sos_past_semi_static(const Point4* const s[5], const VertexId s_ids[5],
+                                           const Point4& q, VertexId q_id) {
+  ++predicate_counters().insphere_calls;
+  const int exact = insphere4_past_semi_static(s, q);
+  if (exact != 0) return exact;
+  return insphere4_tie_break(s, s_ids, q, q_id);
+}
+
 int insphere4_sos(const Point4* const s[5], const VertexId s_ids[5], const Point4& q,
                   VertexId q_id) {
   const int exact = insphere4(s, q);
   if (exact != 0) return exact;
+  return insphere4_tie_break(s, s_ids, q, q_id);
+}
+
+namespace {
+
+int insphere4_tie_break(const Point4* const s[5], const VertexId s_ids[5], const Point4& q,
+                        VertexId q_id) {
   ++predicate_counters().insphere_ties;
 
   // Lifting point j to |p_j|² + ε_j adds ε_j · ∂det/∂w_j = ε_j · (-1)^j · orient4(the other five)
@@ -220,5 +248,7 @@ int insphere4_sos(const Point4* const s[5], const VertexId s_ids[5], const Point
   // Unreachable for a simplex with orient4(s) > 0: the cofactor of q is that orientation.
   return 0;
 }
+
+}  // namespace
 
 }  // namespace mesh4d::delaunay

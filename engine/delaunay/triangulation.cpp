@@ -66,7 +66,7 @@ bool Triangulation::in_conflict(CellId c, const Point4& p, VertexId pid) const {
     // Stage 1 inline decides nearly every call on generic input; the rest take the full chain.
     const int fast = detail::insphere_semi_static(s, p);
     if (fast != detail::kUndecided) return fast > 0;
-    return insphere4_sos(s, cell.v, p, pid) > 0;
+    return detail::insphere4_sos_past_semi_static(s, cell.v, p, pid) > 0;
   }
   // An infinite pentatope's "circumsphere" is the open half-space beyond its hull facet; on the
   // facet's hyperplane it is the facet's circumsphere, which is where the finite neighbor's
