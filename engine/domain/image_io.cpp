@@ -1,0 +1,207 @@
+// ITK stays in this translation unit: the rest of the engine sees only LabelImage4.
+#include "domain/image_io.h"
+
+#include <itkImage.h>
+#include <itkImageFileReader.h>
+#include <itkImageFileWriter.h>
+#include <itkImageIOFactory.h>
+#include <itkMetaImageIOFactory.h>
+#include <itkNiftiImageIOFactory.h>
+#include <itkNrrdImageIOFactory.h>
+
+#include <mutex>
+#include <sstream>
+
+namespace mesh4d::domain {
+
+// The three formats mesh4d reads, registered explicitly (not through ITK's CMake-generated
+// registration), so that reading does not depend on how the executable was configured.
+void register_image_formats() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    itk::NiftiImageIOFactory::RegisterOneFactory();
+    itk::MetaImageIOFactory::RegisterOneFactory();
+    itk::NrrdImageIOFactory::RegisterOneFactory();
+  });
+}
+
+namespace {
+
+bool is_integer_component(itk::IOComponentEnum c) {
+  using C = itk::IOComponentEnum;
+  return c == C::UCHAR || c == C::CHAR || c == C::USHORT || c == C::SHORT || c == C::UINT ||
+         c == C::INT || c == C::ULONG || c == C::LONG || c == C::ULONGLONG || c == C::LONGLONG;
+}
+
+// Opens the file's header and checks what can be checked before reading voxels.
+itk::ImageIOBase::Pointer open_header(const std::string& path, unsigned expected_dims_min,
+                                      unsigned expected_dims_max) {
+  register_image_formats();
+  itk::ImageIOBase::Pointer io =
+      itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::IOFileModeEnum::ReadMode);
+  if (!io)
+    throw ImageError(path +
+                     ": cannot read: missing, unreadable, or not a NIfTI, MetaImage or "
+                     "NRRD file");
+  try {
+    io->SetFileName(path);
+    io->ReadImageInformation();
+  } catch (const itk::ExceptionObject& e) {
+    throw ImageError(path + ": cannot read the header: " + e.GetDescription());
+  }
+  const unsigned n = io->GetNumberOfDimensions();
+  if (n < expected_dims_min || n > expected_dims_max) {
+    std::ostringstream s;
+    s << path << ": image is " << n << "-dimensional; ";
+    if (expected_dims_min == 4)
+      s << "a 4D image (x, y, z, t) is needed, or one 3D file per frame";
+    else
+      s << "each frame must be a 3D image";
+    throw ImageError(s.str());
+  }
+  if (io->GetNumberOfComponents() != 1)
+    throw ImageError(path + ": pixels have " + std::to_string(io->GetNumberOfComponents()) +
+                     " components; a label image has one");
+  if (!is_integer_component(io->GetComponentType()))
+    throw ImageError(path + ": pixels are " +
+                     itk::ImageIOBase::GetComponentTypeAsString(io->GetComponentType()) +
+                     "; a label image holds integers (uint8, uint16 or int16)");
+  return io;
+}
+
+using ReadImage = itk::Image<std::int64_t, 4>;
+
+ReadImage::Pointer read_voxels(const std::string& path) {
+  auto reader = itk::ImageFileReader<ReadImage>::New();
+  reader->SetFileName(path);
+  try {
+    reader->Update();
+  } catch (const itk::ExceptionObject& e) {
+    throw ImageError(path + ": cannot read the voxels: " + e.GetDescription());
+  }
+  return reader->GetOutput();
+}
+
+Label checked_label(std::int64_t v, const std::string& path) {
+  if (v < 0 || v > 65535) {
+    std::ostringstream s;
+    s << path << ": label " << v << " is out of range; labels must be in 0..65535";
+    throw ImageError(s.str());
+  }
+  return static_cast<Label>(v);
+}
+
+void note_direction(const ReadImage* image, const std::string& path,
+                    std::vector<std::string>* warnings) {
+  const auto& dir = image->GetDirection();
+  for (unsigned r = 0; r < 4; ++r)
+    for (unsigned c = 0; c < 4; ++c)
+      if (std::abs(dir[r][c] - (r == c ? 1.0 : 0.0)) > 1e-6) {
+        if (warnings)
+          warnings->push_back(path +
+                              ": direction cosines are not the identity; they are "
+                              "ignored and the axes taken as x, y, z, t");
+        return;
+      }
+}
+
+}  // namespace
+
+LabelImage4 read_label_image(const std::string& path, std::vector<std::string>* warnings) {
+  open_header(path, 4, 4);
+  const ReadImage::Pointer image = read_voxels(path);
+  const auto size = image->GetLargestPossibleRegion().GetSize();
+  const auto spacing = image->GetSpacing();
+  const auto origin = image->GetOrigin();
+  note_direction(image, path, warnings);
+  LabelImage4 out({size[0], size[1], size[2], size[3]},
+                  {spacing[0], spacing[1], spacing[2], spacing[3]},
+                  {origin[0], origin[1], origin[2], origin[3]});
+  const std::int64_t* buffer = image->GetBufferPointer();
+  for (std::size_t i = 0; i < out.voxel_count(); ++i)
+    if (buffer[i] != 0) out.set(i, checked_label(buffer[i], path));
+  return out;
+}
+
+LabelImage4 read_label_frames(const std::vector<std::string>& paths, double time_scale,
+                              std::vector<std::string>* warnings) {
+  if (paths.empty()) throw ImageError("no frame files given");
+  std::vector<ReadImage::Pointer> frames;
+  for (const auto& path : paths) {
+    const auto io = open_header(path, 3, 4);
+    if (io->GetNumberOfDimensions() == 4 && io->GetDimensions(3) != 1)
+      throw ImageError(path + ": a frame must be a 3D image, this one has " +
+                       std::to_string(io->GetDimensions(3)) + " time points");
+    frames.push_back(read_voxels(path));
+  }
+  const auto size = frames[0]->GetLargestPossibleRegion().GetSize();
+  const auto spacing = frames[0]->GetSpacing();
+  const auto origin = frames[0]->GetOrigin();
+  for (std::size_t f = 1; f < frames.size(); ++f) {
+    const auto s = frames[f]->GetLargestPossibleRegion().GetSize();
+    const auto sp = frames[f]->GetSpacing();
+    for (int a = 0; a < 3; ++a) {
+      if (s[a] != size[a])
+        throw ImageError(paths[f] + ": frame size differs from the first frame's (" + paths[0] +
+                         ")");
+      if (std::abs(sp[a] - spacing[a]) > 1e-9 * spacing[a])
+        throw ImageError(paths[f] + ": frame spacing differs from the first frame's");
+    }
+  }
+  note_direction(frames[0], paths[0], warnings);
+  LabelImage4 out({size[0], size[1], size[2], frames.size()},
+                  {spacing[0], spacing[1], spacing[2], time_scale},
+                  {origin[0], origin[1], origin[2], 0.0});
+  const std::size_t per_frame = size[0] * size[1] * size[2];
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    const std::int64_t* buffer = frames[f]->GetBufferPointer();
+    for (std::size_t i = 0; i < per_frame; ++i)
+      if (buffer[i] != 0) out.set(f * per_frame + i, checked_label(buffer[i], paths[f]));
+  }
+  return out;
+}
+
+namespace {
+
+template <class Pixel>
+void write_as(const LabelImage4& image, const std::string& path) {
+  using Image = itk::Image<Pixel, 4>;
+  auto out = Image::New();
+  typename Image::SizeType size;
+  typename Image::SpacingType spacing;
+  typename Image::PointType origin;
+  for (unsigned a = 0; a < 4; ++a) {
+    size[a] = image.dims()[a];
+    spacing[a] = image.spacing()[a];
+    origin[a] = image.origin()[a];
+  }
+  out->SetRegions(typename Image::RegionType(size));
+  out->SetSpacing(spacing);
+  out->SetOrigin(origin);
+  out->Allocate();
+  Pixel* buffer = out->GetBufferPointer();
+  for (std::size_t i = 0; i < image.voxel_count(); ++i) buffer[i] = static_cast<Pixel>(image.at(i));
+  auto writer = itk::ImageFileWriter<Image>::New();
+  writer->SetFileName(path);
+  writer->SetInput(out);
+  writer->SetUseCompression(true);
+  try {
+    writer->Update();
+  } catch (const itk::ExceptionObject& e) {
+    throw ImageError(path + ": cannot write: " + e.GetDescription());
+  }
+}
+
+}  // namespace
+
+void write_nifti(const LabelImage4& image, const std::string& path) {
+  register_image_formats();
+  const bool nifti = path.ends_with(".nii") || path.ends_with(".nii.gz");
+  if (!nifti) throw ImageError(path + ": a NIfTI file name ends in .nii or .nii.gz");
+  if (image.storage_bytes() == image.voxel_count())
+    write_as<std::uint8_t>(image, path);
+  else
+    write_as<std::uint16_t>(image, path);
+}
+
+}  // namespace mesh4d::domain

@@ -1,0 +1,100 @@
+#include "domain/phantoms.h"
+
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <stdexcept>
+
+namespace mesh4d::domain {
+namespace {
+
+// Fills the image with label(p) at every voxel center p.
+LabelImage4 voxelize(const Dims4& dims, const Vec4& spacing,
+                     const std::function<Label(const Point4&)>& label) {
+  LabelImage4 image(dims, spacing);
+  for (std::size_t t = 0; t < dims[3]; ++t)
+    for (std::size_t z = 0; z < dims[2]; ++z)
+      for (std::size_t y = 0; y < dims[1]; ++y)
+        for (std::size_t x = 0; x < dims[0]; ++x) {
+          const Label l = label(image.voxel_center(x, y, z, t));
+          if (l != 0) image.set(x, y, z, t, l);
+        }
+  return image;
+}
+
+Point4 center_of(const Dims4& dims, const Vec4& spacing) {
+  Point4 c;
+  for (int a = 0; a < 4; ++a) c[a] = 0.5 * double(dims[a] - 1) * spacing[a];
+  return c;
+}
+
+}  // namespace
+
+LabelImage4 hypersphere_phantom(const Dims4& dims, const Vec4& spacing, double radius) {
+  const Point4 c = center_of(dims, spacing);
+  return voxelize(dims, spacing, [&](const Point4& p) -> Label {
+    double r2 = 0;
+    for (int a = 0; a < 4; ++a) r2 += (p[a] - c[a]) * (p[a] - c[a]);
+    return r2 < radius * radius ? 1 : 0;
+  });
+}
+
+LabelImage4 hypertorus_phantom(const Dims4& dims, const Vec4& spacing, double major_radius,
+                               double minor_radius) {
+  const Point4 c = center_of(dims, spacing);
+  return voxelize(dims, spacing, [&](const Point4& p) -> Label {
+    const double dx = p[0] - c[0], dy = p[1] - c[1], dz = p[2] - c[2], dt = p[3] - c[3];
+    const double ring = std::sqrt(dx * dx + dy * dy) - major_radius;
+    return ring * ring + dz * dz + dt * dt < minor_radius * minor_radius ? 1 : 0;
+  });
+}
+
+LabelImage4 beating_ventricle_phantom(const Dims4& dims, const Vec4& spacing) {
+  const Point4 c = center_of(dims, spacing);
+  const double frames = double(dims[3]);
+  return voxelize(dims, spacing, [&](const Point4& p) -> Label {
+    const double frame = (p[3] - 0.0) / spacing[3];
+    // Contraction: 0 at end-diastole (frame 0), 1 at end-systole (mid-cycle).
+    const double phase = 0.5 * (1 - std::cos(2 * std::numbers::pi * frame / frames));
+    const double cavity_r = 25.0 * (1 - phase / 3);  // in-plane radius, mm
+    const double cavity_a = 70.0 * (1 - phase / 6);  // half long axis, mm
+    const double wall = 8.0 + 4.0 * phase;           // mm
+    const double dx = p[0] - c[0], dy = p[1] - c[1], dz = p[2] - c[2];
+    auto inside = [&](double r, double a) {
+      return (dx * dx + dy * dy) / (r * r) + dz * dz / (a * a) < 1;
+    };
+    if (inside(cavity_r, cavity_a)) return 1;
+    if (inside(cavity_r + wall, cavity_a + wall)) return 2;
+    return 0;
+  });
+}
+
+LabelImage4 merging_blobs_phantom(const Dims4& dims, const Vec4& spacing) {
+  const Point4 c = center_of(dims, spacing);
+  const double extent_t = double(dims[3] - 1) * spacing[3];
+  const double radius = 0.22 * double(dims[1]) * spacing[1];
+  return voxelize(dims, spacing, [&](const Point4& p) -> Label {
+    // Half distance between the centers: 1.6 radii at both ends of time, 0.4 at mid-time.
+    const double s = std::sin(std::numbers::pi * p[3] / extent_t);
+    const double half = radius * (1.6 - 1.2 * s);
+    const double dy = p[1] - c[1], dz = p[2] - c[2];
+    const double d1 = (p[0] - c[0] + half), d2 = (p[0] - c[0] - half);
+    const double r2 = radius * radius;
+    return (d1 * d1 + dy * dy + dz * dz < r2 || d2 * d2 + dy * dy + dz * dz < r2) ? 1 : 0;
+  });
+}
+
+std::vector<std::string> phantom_names() {
+  return {"hypersphere", "hypertorus", "ventricle", "blobs"};
+}
+
+LabelImage4 make_phantom(const std::string& name) {
+  if (name == "hypersphere") return hypersphere_phantom();
+  if (name == "hypertorus") return hypertorus_phantom();
+  if (name == "ventricle") return beating_ventricle_phantom();
+  if (name == "blobs") return merging_blobs_phantom();
+  throw std::invalid_argument("unknown phantom '" + name +
+                              "' (known: hypersphere, hypertorus, ventricle, blobs)");
+}
+
+}  // namespace mesh4d::domain

@@ -1,0 +1,239 @@
+#include "domain/surface_oracle.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "domain/feature_transform.h"
+
+namespace mesh4d::domain {
+namespace {
+
+double norm(const Vec4& v) {
+  return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3]);
+}
+
+Point4 lerp(const Point4& a, const Point4& b, double s) {
+  return {a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]), a[2] + s * (b[2] - a[2]),
+          a[3] + s * (b[3] - a[3])};
+}
+
+double distance(const Point4& a, const Point4& b) {
+  return norm({a[0] - b[0], a[1] - b[1], a[2] - b[2], a[3] - b[3]});
+}
+
+}  // namespace
+
+SurfaceOracle::SurfaceOracle(const LabelImage4& image)
+    : image_(image), feature_(feature_transform(image)) {
+  if (feature_.empty() || feature_[0] == kNoFeature)
+    throw ImageError("image has a single label everywhere: there is no surface to mesh");
+  const Vec4& s = image.spacing();
+  voxel_size_ = std::max(std::max(s[0], s[1]), std::max(s[2], s[3]));
+}
+
+SurfaceOracle::LabelWeights SurfaceOracle::weights_at(const Point4& x) const {
+  const Vec4 u = image_.to_index(x);
+  const Dims4& d = image_.dims();
+  long base[4];
+  double frac[4];
+  for (int a = 0; a < 4; ++a) {
+    const double f = std::floor(u[a]);
+    base[a] = static_cast<long>(f);
+    frac[a] = u[a] - f;
+  }
+  LabelWeights w;
+  for (int corner = 0; corner < 16; ++corner) {
+    double weight = 1;
+    bool in_image = true;
+    std::size_t c[4];
+    for (int a = 0; a < 4; ++a) {
+      const int bit = (corner >> a) & 1;
+      weight *= bit ? frac[a] : 1 - frac[a];
+      const long ci = base[a] + bit;
+      in_image = in_image && ci >= 0 && ci < static_cast<long>(d[a]);
+      c[a] = static_cast<std::size_t>(ci);
+    }
+    if (weight == 0) continue;
+    const Label l = in_image ? image_.at(c[0], c[1], c[2], c[3]) : 0;
+    int k = 0;
+    while (k < w.count && w.label[k] != l) ++k;
+    if (k == w.count) {
+      w.label[k] = l;
+      w.weight[k] = 0;
+      ++w.count;
+    }
+    w.weight[k] += weight;
+  }
+  return w;
+}
+
+Label SurfaceOracle::argmax(const LabelWeights& w) const {
+  Label best = w.count ? w.label[0] : 0;
+  double best_weight = w.count ? w.weight[0] : 0;
+  for (int k = 1; k < w.count; ++k)
+    if (w.weight[k] > best_weight || (w.weight[k] == best_weight && w.label[k] < best)) {
+      best = w.label[k];
+      best_weight = w.weight[k];
+    }
+  return best;
+}
+
+Label SurfaceOracle::label_at(const Point4& x) const {
+  return argmax(weights_at(x));
+}
+
+double SurfaceOracle::cut_value(const Point4& x, Label a, Label b) const {
+  const LabelWeights w = weights_at(x);
+  double ia = 0, ib = 0;
+  for (int k = 0; k < w.count; ++k) {
+    if (w.label[k] == a) ia = w.weight[k];
+    if (w.label[k] == b) ib = w.weight[k];
+  }
+  return ia - ib;
+}
+
+Vec4 SurfaceOracle::cut_gradient(const Point4& x, Label a, Label b) const {
+  // Central differences at a tenth of a voxel: f is piecewise multilinear, so this is its exact
+  // derivative except within that distance of a voxel-center hyperplane.
+  Vec4 g;
+  for (int axis = 0; axis < 4; ++axis) {
+    const double h = 0.1 * image_.spacing()[axis];
+    Point4 p = x, m = x;
+    p[axis] += h;
+    m[axis] -= h;
+    g[axis] = (cut_value(p, a, b) - cut_value(m, a, b)) / (2 * h);
+  }
+  return g;
+}
+
+SurfacePoint SurfaceOracle::bisect(Point4 a, Point4 b, Label label_a) const {
+  Label label_b = label_at(b);
+  // 80 halvings take any segment inside the image below the spacing of doubles.
+  for (int i = 0; i < 80; ++i) {
+    const Point4 m = lerp(a, b, 0.5);
+    if (m == a || m == b) break;
+    const Label lm = label_at(m);
+    if (lm == label_a) {
+      a = m;
+    } else {
+      b = m;
+      label_b = lm;
+    }
+  }
+  return {lerp(a, b, 0.5), label_a, label_b};
+}
+
+std::optional<SurfacePoint> SurfaceOracle::first_crossing(const Point4& a, const Point4& b) const {
+  const Label la = label_at(a);
+  // Half-voxel steps: in one step the piecewise-multilinear label function can change at most
+  // across one cell boundary, so no thin feature is skipped over.
+  double min_spacing = image_.spacing()[0];
+  for (double s : image_.spacing()) min_spacing = std::min(min_spacing, s);
+  const int steps = std::max(1, static_cast<int>(std::ceil(distance(a, b) / (0.5 * min_spacing))));
+  Point4 previous = a;
+  for (int i = 1; i <= steps; ++i) {
+    const Point4 p = lerp(a, b, double(i) / steps);
+    if (label_at(p) != la) return bisect(previous, p, la);
+    previous = p;
+  }
+  return std::nullopt;
+}
+
+std::optional<SurfacePoint> SurfaceOracle::project_along(const Point4& seed,
+                                                         const Vec4& normal) const {
+  // The surface near seed along ±normal, within two voxels: the nearer crossing wins.
+  const double reach = 2 * voxel_size_;
+  const Point4 ahead{seed[0] + reach * normal[0], seed[1] + reach * normal[1],
+                     seed[2] + reach * normal[2], seed[3] + reach * normal[3]};
+  const Point4 behind{seed[0] - reach * normal[0], seed[1] - reach * normal[1],
+                      seed[2] - reach * normal[2], seed[3] - reach * normal[3]};
+  auto f = first_crossing(seed, ahead);
+  auto g = first_crossing(seed, behind);
+  if (f && g) return distance(f->point, seed) <= distance(g->point, seed) ? f : g;
+  return f ? f : g;
+}
+
+SurfacePoint SurfaceOracle::closest_surface_point(const Point4& x) const {
+  // Start: the nearest surface voxel to the voxel nearest x.
+  const Vec4 u = image_.to_index(x);
+  const Dims4& d = image_.dims();
+  std::size_t c[4];
+  for (int a = 0; a < 4; ++a) {
+    const double r = std::round(u[a]);
+    c[a] = static_cast<std::size_t>(std::clamp(r, 0.0, double(d[a] - 1)));
+  }
+  std::size_t s = feature_[image_.linear_index(c[0], c[1], c[2], c[3])];
+  std::size_t sc[4];
+  for (int a = 0; a < 4; ++a) {
+    sc[a] = s % d[a];
+    s /= d[a];
+  }
+  const Point4 center = image_.voxel_center(sc[0], sc[1], sc[2], sc[3]);
+
+  // Candidate surface points: on the ray from x through that voxel (continued a voxel past it),
+  // and between the voxel and each face neighbor of another label.
+  std::vector<SurfacePoint> candidates;
+  const double dist = distance(x, center);
+  if (dist > 1e-9 * voxel_size_) {
+    const double beyond = (dist + 1.5 * voxel_size_) / dist;
+    if (auto z = first_crossing(x, lerp(x, center, beyond))) candidates.push_back(*z);
+  }
+  const Label own = image_.at(image_.linear_index(sc[0], sc[1], sc[2], sc[3]));
+  for (int a = 0; a < 4; ++a)
+    for (int side = -1; side <= 1; side += 2) {
+      std::size_t nc[4] = {sc[0], sc[1], sc[2], sc[3]};
+      if ((side < 0 && nc[a] == 0) || (side > 0 && nc[a] + 1 >= d[a])) continue;
+      nc[a] += side;
+      if (image_.at(image_.linear_index(nc[0], nc[1], nc[2], nc[3])) == own) continue;
+      Point4 n = center;
+      n[a] += side * image_.spacing()[a];
+      if (auto z = first_crossing(center, n)) candidates.push_back(*z);
+    }
+  if (candidates.empty()) return {x, label_at(x), label_at(x)};  // unreachable when validated
+
+  // Refine each candidate and keep the closest: the interpolated surface of a voxelized shape
+  // is bumpy at the voxel scale, so a single descent can stop on the wrong bump.
+  const Label x_label = label_at(x);
+  SurfacePoint best = candidates.front();
+  double best_distance = INFINITY;
+  for (SurfacePoint z : candidates) {
+    if (z.outer == x_label) std::swap(z.inner, z.outer);  // x's side is "inner"
+    refine_towards(x, z);
+    const double dz = distance(x, z.point);
+    if (dz < best_distance) best_distance = dz, best = z;
+  }
+  return best;
+}
+
+void SurfaceOracle::refine_towards(const Point4& x, SurfacePoint& z) const {
+  // Projected descent: step along the tangent hyperplane towards x's foot point, back onto ∂Ω
+  // along the normal; halve the step while it does not bring z closer to x.
+  double current = distance(x, z.point);
+  for (int iteration = 0; iteration < 30; ++iteration) {
+    Vec4 g = cut_gradient(z.point, z.inner, z.outer);
+    const double gn = norm(g);
+    if (gn == 0) return;
+    for (double& v : g) v /= gn;
+    Vec4 r{x[0] - z.point[0], x[1] - z.point[1], x[2] - z.point[2], x[3] - z.point[3]};
+    const double rn = r[0] * g[0] + r[1] * g[1] + r[2] * g[2] + r[3] * g[3];
+    for (int a = 0; a < 4; ++a) r[a] -= rn * g[a];
+    if (norm(r) < 1e-4 * voxel_size_) return;
+    bool moved = false;
+    for (double step = 1; step > 1.0 / 64 && !moved; step /= 2) {
+      const Point4 seed{z.point[0] + step * r[0], z.point[1] + step * r[1],
+                        z.point[2] + step * r[2], z.point[3] + step * r[3]};
+      auto next = project_along(seed, g);
+      if (!next) continue;
+      if (next->inner != z.inner) std::swap(next->inner, next->outer);
+      const double dn = distance(x, next->point);
+      if (dn < current) {
+        current = dn;
+        z = *next;
+        moved = true;
+      }
+    }
+    if (!moved) return;
+  }
+}
+
+}  // namespace mesh4d::domain

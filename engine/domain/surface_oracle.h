@@ -1,0 +1,69 @@
+// The refiner's questions to the image (ALGORITHM.md, "Input and the domain"): which label is at
+// x, where the hyper-surface ∂Ω crosses a segment, and which point of ∂Ω is closest to x (cfp).
+//
+// The label function: for each label L, I_L(x) is the multilinear interpolation (16 voxel
+// centers around x) of the indicator "voxel has label L", with background outside the image;
+// the label at x is the L with the largest I_L(x) (the smaller label on an exact tie). ∂Ω is
+// where that choice changes: between labels A and B it is the zero set of the cut function
+// f_AB = I_A − I_B. Multi-label images therefore have label–label interfaces as surfaces too.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "domain/label_image.h"
+
+namespace mesh4d::domain {
+
+struct SurfacePoint {
+  Point4 point;  // on ∂Ω: |I_inner − I_outer| at most ~1e-12 there
+  Label inner;   // the label on the side the search started from
+  Label outer;   // the label on the other side
+};
+
+class SurfaceOracle {
+ public:
+  /// Keeps a reference to `image` (which must outlive the oracle) and computes its feature
+  /// transform. Throws ImageError when the image has a single label (no surface).
+  explicit SurfaceOracle(const LabelImage4& image);
+
+  const LabelImage4& image() const { return image_; }
+
+  Label label_at(const Point4& x) const;
+  bool inside(const Point4& x) const { return label_at(x) != 0; }
+  /// I_a(x) − I_b(x).
+  double cut_value(const Point4& x, Label a, Label b) const;
+
+  /// The first point from a towards b where the label changes (sampled every half voxel, then
+  /// bisected to machine precision), or nothing when no change is seen.
+  std::optional<SurfacePoint> first_crossing(const Point4& a, const Point4& b) const;
+
+  /// cfp(x): the closest point of ∂Ω to x. The nearest surface voxel (feature transform) gives a
+  /// start; the ray from x through it finds a crossing; a few projected steps along ∂Ω then move
+  /// it to where x − z is normal to ∂Ω.
+  SurfacePoint closest_surface_point(const Point4& x) const;
+
+  /// Bytes held by the oracle (the feature transform).
+  std::size_t memory_bytes() const { return feature_.size() * sizeof(std::uint32_t); }
+
+ private:
+  // Interpolated indicator values of the labels around continuous index u.
+  struct LabelWeights {
+    Label label[16];
+    double weight[16];
+    int count = 0;
+  };
+  LabelWeights weights_at(const Point4& x) const;
+  Label argmax(const LabelWeights& w) const;
+  Vec4 cut_gradient(const Point4& x, Label a, Label b) const;
+  SurfacePoint bisect(Point4 a, Point4 b, Label label_a) const;
+  std::optional<SurfacePoint> project_along(const Point4& seed, const Vec4& normal) const;
+  void refine_towards(const Point4& x, SurfacePoint& z) const;
+
+  const LabelImage4& image_;
+  std::vector<std::uint32_t> feature_;
+  double voxel_size_;  // the largest spacing: the scale of search steps
+};
+
+}  // namespace mesh4d::domain

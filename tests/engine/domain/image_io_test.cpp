@@ -1,0 +1,164 @@
+// Reading and writing label images: round trips through every supported format, frame series,
+// the clear errors for bad files, and the real cardiac images beside the repository.
+#include "domain/image_io.h"
+
+#include <gtest/gtest.h>
+#include <itkImage.h>
+#include <itkImageFileWriter.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "domain/phantoms.h"
+
+namespace mesh4d::domain {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string temp_path(const std::string& name) {
+  // One folder per process: CTest runs the tests of this file in parallel processes.
+  const fs::path dir =
+      fs::temp_directory_path() / ("mesh4d-image-io-test-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return (dir / name).string();
+}
+
+// Writes an ITK image of any pixel type and dimension with the given values (for inputs that
+// mesh4d itself never writes: 3D frames, float pixels, other formats).
+template <class Pixel, unsigned Dim>
+void write_itk(const std::string& path, const std::array<std::size_t, Dim>& size,
+               const std::function<Pixel(std::size_t)>& value, double spacing = 1.5) {
+  register_image_formats();
+  using Image = itk::Image<Pixel, Dim>;
+  auto image = Image::New();
+  typename Image::SizeType s;
+  typename Image::SpacingType sp;
+  for (unsigned a = 0; a < Dim; ++a) s[a] = size[a], sp[a] = spacing;
+  image->SetRegions(typename Image::RegionType(s));
+  image->SetSpacing(sp);
+  image->Allocate();
+  for (std::size_t i = 0; i < image->GetLargestPossibleRegion().GetNumberOfPixels(); ++i)
+    image->GetBufferPointer()[i] = value(i);
+  auto writer = itk::ImageFileWriter<Image>::New();
+  writer->SetFileName(path);
+  writer->SetInput(image);
+  writer->Update();
+}
+
+void expect_same(const LabelImage4& a, const LabelImage4& b) {
+  ASSERT_EQ(a.dims(), b.dims());
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_NEAR(a.spacing()[i], b.spacing()[i], 1e-6);
+    EXPECT_NEAR(a.origin()[i], b.origin()[i], 1e-6);
+  }
+  std::size_t differences = 0;
+  for (std::size_t i = 0; i < a.voxel_count(); ++i) differences += a.at(i) != b.at(i);
+  EXPECT_EQ(differences, 0u);
+}
+
+TEST(ImageIo, NiftiRoundTripKeepsLabelsDimsAndSpacing) {
+  const LabelImage4 ventricle = beating_ventricle_phantom({40, 36, 20, 6}, {1.77, 1.77, 6, 1});
+  for (const char* name : {"v.nii", "v.nii.gz"}) {
+    const std::string path = temp_path(name);
+    write_nifti(ventricle, path);
+    expect_same(ventricle, read_label_image(path));
+  }
+}
+
+TEST(ImageIo, SixteenBitLabelsRoundTrip) {
+  // NIfTI stores no time origin (ITK reads it as 0), so this image starts at t = 0.
+  LabelImage4 image({6, 5, 4, 3}, {1, 2, 3, 4}, {-5, 0, 5, 0});
+  image.set(1, 1, 1, 1, 1000);
+  image.set(2, 2, 2, 2, 65535);
+  const std::string path = temp_path("wide.nii.gz");
+  write_nifti(image, path);
+  expect_same(image, read_label_image(path));
+}
+
+TEST(ImageIo, ReadsMetaImageAndNrrdOfEveryAcceptedLabelType) {
+  auto label = [](std::size_t i) { return (i % 7 == 0) ? 2 : (i % 5 == 0 ? 1 : 0); };
+  write_itk<std::uint8_t, 4>(temp_path("u8.mha"), {5, 4, 3, 2}, label);
+  write_itk<std::uint16_t, 4>(temp_path("u16.nrrd"), {5, 4, 3, 2}, label);
+  write_itk<std::int16_t, 4>(temp_path("i16.mhd"), {5, 4, 3, 2}, label);
+  for (const char* name : {"u8.mha", "u16.nrrd", "i16.mhd"}) {
+    const LabelImage4 image = read_label_image(temp_path(name));
+    EXPECT_EQ(image.dims(), (Dims4{5, 4, 3, 2})) << name;
+    EXPECT_DOUBLE_EQ(image.spacing()[0], 1.5) << name;
+    for (std::size_t i = 0; i < image.voxel_count(); ++i) ASSERT_EQ(image.at(i), label(i)) << name;
+  }
+}
+
+TEST(ImageIo, FramesAreStackedAlongTime) {
+  std::vector<std::string> frames;
+  for (int f = 0; f < 3; ++f) {
+    frames.push_back(temp_path("frame" + std::to_string(f) + ".nii.gz"));
+    write_itk<std::uint8_t, 3>(frames.back(), {4, 4, 4}, [f](std::size_t i) {
+      return static_cast<std::uint8_t>(i == 21 + static_cast<std::size_t>(f) ? 1 : 0);
+    });
+  }
+  const LabelImage4 image = read_label_frames(frames, 2.5);
+  EXPECT_EQ(image.dims(), (Dims4{4, 4, 4, 3}));
+  EXPECT_DOUBLE_EQ(image.spacing()[3], 2.5);
+  for (std::size_t f = 0; f < 3; ++f) EXPECT_EQ(image.at(64 * f + 21 + f), 1);
+  EXPECT_EQ(image.labels(), (std::vector<Label>{0, 1}));
+}
+
+TEST(ImageIo, FramesOfDifferentSizesAreRefused) {
+  write_itk<std::uint8_t, 3>(temp_path("a.nii"), {4, 4, 4}, [](std::size_t) { return 1; });
+  write_itk<std::uint8_t, 3>(temp_path("b.nii"), {4, 4, 5}, [](std::size_t) { return 1; });
+  EXPECT_THROW(read_label_frames({temp_path("a.nii"), temp_path("b.nii")}, 1.0), ImageError);
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const ImageError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(ImageIo, BadFilesGiveClearErrors) {
+  EXPECT_NE(error_of([] { read_label_image(temp_path("missing.nii.gz")); }).find("cannot read"),
+            std::string::npos);
+  { std::ofstream(temp_path("garbage.nii")) << "this is not an image at all"; }
+  EXPECT_NE(error_of([] { read_label_image(temp_path("garbage.nii")); }).find("garbage.nii"),
+            std::string::npos);
+  write_itk<float, 4>(temp_path("float.nii"), {3, 3, 3, 3}, [](std::size_t) { return 0.5f; });
+  EXPECT_NE(error_of([] { read_label_image(temp_path("float.nii")); }).find("integers"),
+            std::string::npos);
+  write_itk<std::uint8_t, 3>(temp_path("three.nii"), {3, 3, 3}, [](std::size_t) { return 1; });
+  EXPECT_NE(error_of([] { read_label_image(temp_path("three.nii")); }).find("3-dimensional"),
+            std::string::npos);
+  EXPECT_NE(error_of([] { write_nifti(hypersphere_phantom(), temp_path("x.png")); }).find(".nii"),
+            std::string::npos);
+}
+
+// The paper's patients (../shared/data/heart4d/README.md): dims, in-plane spacing, labels 0-2.
+TEST(HeartData, FivePatientsLoadWithTheirDimsSpacingAndLabels) {
+  const fs::path dir = MESH4D_HEART_DATA_DIR;
+  if (!fs::exists(dir)) GTEST_SKIP() << "no real data: " << dir << " is absent";
+  struct Expected {
+    const char* file;
+    std::size_t z;
+    double mm;
+  };
+  const Expected patients[] = {{"Pat01_mse4d_label4d.nii.gz", 44, 1.77},
+                               {"Pat02_mse4d_label4d.nii.gz", 34, 1.77},
+                               {"Pat03_mse4d_label4d.nii.gz", 26, 2.08},
+                               {"Pat04_mse4d_label4d.nii.gz", 31, 1.77},
+                               {"Pat05_mse4d_label4d.nii.gz", 29, 1.88}};
+  for (const auto& p : patients) {
+    const LabelImage4 image = read_label_image((dir / p.file).string());
+    EXPECT_EQ(image.dims(), (Dims4{100, 100, p.z, 25})) << p.file;
+    EXPECT_NEAR(image.spacing()[0], p.mm, 0.01) << p.file;
+    EXPECT_NEAR(image.spacing()[1], p.mm, 0.01) << p.file;
+    EXPECT_NEAR(image.spacing()[3], 1.0, 1e-9) << p.file;
+    EXPECT_EQ(image.labels(), (std::vector<Label>{0, 1, 2})) << p.file;
+  }
+}
+
+}  // namespace
+}  // namespace mesh4d::domain
