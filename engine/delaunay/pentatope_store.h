@@ -32,8 +32,9 @@ struct Pentatope {
 };
 static_assert(sizeof(Pentatope) == 44, "pentatopes are 44 bytes: 10 ids and one stamp");
 
+/// A vertex's combinatorial data; its point is stored apart (PentatopeStore::point), so that the
+/// predicates' loads find points packed two to a cache line.
 struct Vertex {
-  Point4 point;
   CellId cell;  // one incident pentatope; kNoCell until the vertex is in the triangulation
   VertexKind kind;
 };
@@ -46,7 +47,7 @@ class PentatopeStore {
   const Pentatope& cell(CellId c) const { return cells_[c]; }
   Vertex& vertex(VertexId v) { return vertices_[v]; }
   const Vertex& vertex(VertexId v) const { return vertices_[v]; }
-  const Point4& point(VertexId v) const { return vertices_[v].point; }
+  const Point4& point(VertexId v) const { return points_[v]; }
 
   /// A pentatope with the given vertices, neighbors unset (kNoCell) and mark 0.
   CellId create_cell(const VertexId v[5]) {
@@ -92,11 +93,14 @@ class PentatopeStore {
   std::size_t cell_slots() const { return cells_.size(); }  // live + free
   std::size_t live_cells() const { return live_cells_; }
   std::size_t vertex_slots() const { return vertices_.size(); }  // includes the infinite vertex
-  std::size_t memory_bytes() const { return cells_.capacity_bytes() + vertices_.capacity_bytes(); }
+  std::size_t memory_bytes() const {
+    return cells_.capacity_bytes() + vertices_.capacity_bytes() + points_.capacity_bytes();
+  }
 
  private:
   ChunkedArray<Pentatope> cells_;
   ChunkedArray<Vertex> vertices_;
+  ChunkedArray<Point4> points_;
   CellId free_head_ = kNoCell;
   std::size_t live_cells_ = 0;
 };

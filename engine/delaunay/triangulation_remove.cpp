@@ -74,7 +74,7 @@ bool Triangulation::remove(VertexId v) {
 
   // Local pentatopes in conflict with v (under the global ids) fill the hole. v lies strictly
   // inside the hull of its link, so no infinite local pentatope can conflict with it.
-  const Point4 p = vertex.point;
+  const Point4 p = store_.point(v);
   std::unordered_map<CellId, CellId> to_global;  // local pentatope -> new global pentatope
   std::vector<CellId> fill;
   const PentatopeStore& ls = local.store();
