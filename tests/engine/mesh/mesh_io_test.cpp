@@ -1,0 +1,115 @@
+#include "mesh/mesh_io.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "mesh/mesh_stats.h"
+
+namespace mesh4d::mesh {
+namespace {
+
+// Two pentatopes sharing a facet, with labels 1 and 2, and their outer boundary facets.
+Mesh4 small_mesh() {
+  Mesh4 m;
+  m.vertices = {{0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}, {1, 1, 1, 1}};
+  m.vertex_kinds = {VertexKind::box,     VertexKind::feature, VertexKind::feature,
+                    VertexKind::feature, VertexKind::free,    VertexKind::feature};
+  m.pentatopes = {{0, 1, 2, 3, 4}, {1, 2, 3, 4, 5}};
+  m.labels = {1, 2};
+  m.boundary = {{{0, 1, 2, 3}, 0, 1, 0}, {{1, 2, 3, 4}, 0, 1, 2}, {{1, 2, 3, 5}, 1, 2, 0}};
+  return m;
+}
+
+bool same(const Mesh4& a, const Mesh4& b) {
+  if (a.boundary.size() != b.boundary.size()) return false;
+  for (std::size_t i = 0; i < a.boundary.size(); ++i) {
+    const auto &x = a.boundary[i], &y = b.boundary[i];
+    if (x.vertices != y.vertices || x.pentatope != y.pentatope || x.inner != y.inner ||
+        x.outer != y.outer)
+      return false;
+  }
+  return a.vertices == b.vertices && a.vertex_kinds == b.vertex_kinds &&
+         a.pentatopes == b.pentatopes && a.labels == b.labels;
+}
+
+TEST(M4d, RoundTripInMemoryAndThroughAFile) {
+  const Mesh4 mesh = small_mesh();
+  const auto bytes = encode_m4d(mesh);
+  EXPECT_EQ(bytes.size() % 8, 0u);
+  EXPECT_TRUE(same(decode_m4d(bytes.data(), bytes.size()), mesh));
+  const auto path = (std::filesystem::temp_directory_path() / "mesh4d-test.m4d").string();
+  write_m4d(mesh, path);
+  EXPECT_TRUE(same(read_m4d(path), mesh));
+  std::filesystem::remove(path);
+}
+
+TEST(M4d, EmptyMeshRoundTrips) {
+  const Mesh4 empty;
+  const auto bytes = encode_m4d(empty);
+  EXPECT_TRUE(same(decode_m4d(bytes.data(), bytes.size()), empty));
+}
+
+std::string error_of(std::vector<std::uint8_t> bytes) {
+  try {
+    decode_m4d(bytes.data(), bytes.size());
+  } catch (const MeshFormatError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(M4d, CorruptionTruncationAndForeignDataAreRefused) {
+  const auto good = encode_m4d(small_mesh());
+  auto flipped = good;
+  flipped[100] ^= 0x01;
+  EXPECT_NE(error_of(flipped).find("checksum"), std::string::npos);
+  auto truncated = good;
+  truncated.resize(good.size() - 9);
+  EXPECT_NE(error_of(truncated).find("inconsistent"), std::string::npos);
+  EXPECT_NE(error_of({1, 2, 3}).find("too short"), std::string::npos);
+  auto foreign = good;
+  foreign[0] = 'X';
+  EXPECT_NE(error_of(foreign).find("magic"), std::string::npos);
+  auto future = good;
+  future[8] = 2;  // version 2
+  EXPECT_NE(error_of(future).find("version 2"), std::string::npos);
+}
+
+TEST(M4d, OutOfRangeIdsAreRefusedEvenWithAValidChecksum) {
+  auto bytes = encode_m4d(small_mesh());
+  // First pentatope's first vertex id: after the header, 6 vertices (192 B), 6 kinds padded (8).
+  const std::size_t at = 64 + 6 * 32 + 8;
+  bytes[at] = 99;
+  const auto digest = sha256(bytes.data(), bytes.size() - 32);
+  std::copy(digest.begin(), digest.end(), bytes.end() - 32);
+  EXPECT_NE(error_of(bytes).find("out of range"), std::string::npos);
+}
+
+TEST(M4d, InconsistentMeshIsNotWritten) {
+  Mesh4 bad = small_mesh();
+  bad.labels[1] = 0;
+  EXPECT_THROW(encode_m4d(bad), std::invalid_argument);
+  bad = small_mesh();
+  bad.pentatopes[0][2] = 17;
+  EXPECT_THROW(encode_m4d(bad), std::invalid_argument);
+}
+
+TEST(MeshStats, CountsAndDistributions) {
+  const MeshStats s = compute_stats(small_mesh());
+  EXPECT_EQ(s.vertices, 6u);
+  EXPECT_EQ(s.pentatopes, 2u);
+  EXPECT_EQ(s.boundary_tetrahedra, 3u);
+  EXPECT_DOUBLE_EQ(s.shortest_edge, 1.0);
+  EXPECT_GT(s.normalized_volume.min, 0);
+  EXPECT_LE(s.normalized_volume.max, 1);
+  EXPECT_GE(s.radius_edge_ratio.min, std::sqrt(0.4) - 1e-12);  // the regular pentatope's value
+  std::uint64_t total = 0;
+  for (auto c : s.normalized_volume_histogram) total += c;
+  EXPECT_EQ(total, 2u);
+  EXPECT_EQ(s.normalized_volume_histogram.size(), std::size_t(kHistogramBins));
+}
+
+}  // namespace
+}  // namespace mesh4d::mesh
