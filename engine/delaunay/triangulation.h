@@ -83,6 +83,9 @@ class Triangulation {
   /// A live pentatope, or kNoCell while dimension() < 4.
   CellId any_cell() const { return any_cell_; }
 
+  /// The pentatopes incident to vertex v (its star), v in the triangulation.
+  void incident_cells(VertexId v, std::vector<CellId>& cells) const { collect_star(v, cells); }
+
   /// The exact pentatope orientation with point p in slot i (p replacing v[i]).
   int orient_with(CellId c, int i, const Point4& p) const;
 

@@ -29,6 +29,25 @@ SurfaceOracle::SurfaceOracle(const LabelImage4& image)
     throw ImageError("image has a single label everywhere: there is no surface to mesh");
   const Vec4& s = image.spacing();
   voxel_size_ = std::max(std::max(s[0], s[1]), std::max(s[2], s[3]));
+  cell_diagonal_ = norm(s);
+}
+
+std::pair<double, double> SurfaceOracle::surface_distance_bounds(const Point4& x) const {
+  const Vec4 u = image_.to_index(x);
+  const Dims4& d = image_.dims();
+  std::size_t c[4];
+  for (int a = 0; a < 4; ++a)
+    c[a] = static_cast<std::size_t>(std::clamp(std::round(u[a]), 0.0, double(d[a] - 1)));
+  const Point4 v = image_.voxel_center(c[0], c[1], c[2], c[3]);
+  std::size_t f = feature_[image_.linear_index(c[0], c[1], c[2], c[3])];
+  std::size_t fc[4];
+  for (int a = 0; a < 4; ++a) fc[a] = f % d[a], f /= d[a];
+  const Point4 s = image_.voxel_center(fc[0], fc[1], fc[2], fc[3]);
+  // The nearest surface voxel to x is at least |v - s| - |x - v| away (s is nearest to v), and
+  // ∂Ω is within a cell diagonal of surface voxels.
+  const double lower = distance(v, s) - distance(x, v) - cell_diagonal_;
+  const double upper = distance(x, s) + cell_diagonal_;
+  return {std::max(0.0, lower), upper};
 }
 
 SurfaceOracle::LabelWeights SurfaceOracle::weights_at(const Point4& x) const {
@@ -153,7 +172,7 @@ std::optional<SurfacePoint> SurfaceOracle::project_along(const Point4& seed,
   return f ? f : g;
 }
 
-SurfacePoint SurfaceOracle::closest_surface_point(const Point4& x) const {
+SurfacePoint SurfaceOracle::closest_surface_point(const Point4& x, CfpMode mode) const {
   // Start: the nearest surface voxel to the voxel nearest x.
   const Vec4 u = image_.to_index(x);
   const Dims4& d = image_.dims();
@@ -198,7 +217,7 @@ SurfacePoint SurfaceOracle::closest_surface_point(const Point4& x) const {
   double best_distance = INFINITY;
   for (SurfacePoint z : candidates) {
     if (z.outer == x_label) std::swap(z.inner, z.outer);  // x's side is "inner"
-    refine_towards(x, z);
+    if (mode == CfpMode::descent) refine_towards(x, z);
     const double dz = distance(x, z.point);
     if (dz < best_distance) best_distance = dz, best = z;
   }

@@ -1,0 +1,35 @@
+// Parameters of Delaunay refinement (ALGORITHM.md, "Refinement"), with their defaults and checks.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+
+namespace mesh4d::refine {
+
+enum class RuleOrder {
+  r3_first,  // R3, R1, R2, R4, R5: bounded radius-edge ratio at all times (paper §7.1)
+  paper,     // R1, R2, R3, R4, R5
+};
+
+struct RefineParams {
+  double delta = 5;              // Δ: surface sampling distance, physical units
+  double radius_edge_bound = 2;  // ρ̄: pentatopes with circumradius/shortest edge ≥ ρ̄ are refined
+  double picking_ratio = 0.5;      // ζ: picking-region radius over circumradius
+  unsigned picking_trials = 10;    // random points tried per picking region
+  double sliver_bound = 0.01;      // normalized volume below which a pentatope is a sliver
+  double max_interior_radius = 0;  // sizing bound on circumradius inside Ω; 0: none
+  RuleOrder rule_order = RuleOrder::r3_first;
+  std::uint64_t seed = 1;                   // of the random picking: same seed, same mesh
+  std::uint64_t vertex_budget = 5'000'000;  // refinement stops with an error past this
+};
+
+/// Bad parameters: the message names the parameter and the accepted range.
+class ParamError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+/// Throws ParamError for a non-finite or out-of-range value.
+void validate(const RefineParams& params);
+
+}  // namespace mesh4d::refine
