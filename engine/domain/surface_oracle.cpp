@@ -208,7 +208,33 @@ SurfacePoint SurfaceOracle::closest_surface_point(const Point4& x, CfpMode mode)
       n[a] += side * image_.spacing()[a];
       if (auto z = first_crossing(center, n)) candidates.push_back(*z);
     }
+  if (mode == CfpMode::descent) {
+    // More starts: rays from x through the surface voxels around the nearest one (the zero set
+    // near x is bumpy, and the closest bump need not be the one the nearest voxel points at).
+    for (int k = 0; k < 81; ++k) {
+      std::size_t nc[4];
+      bool ok = k != 40;  // 40 is the voxel itself
+      for (int a = 0, r = k; a < 4 && ok; ++a, r /= 3) {
+        const long c2 = static_cast<long>(sc[a]) + (r % 3) - 1;
+        ok = c2 >= 0 && c2 < static_cast<long>(d[a]);
+        nc[a] = static_cast<std::size_t>(c2);
+      }
+      if (!ok || !is_surface_voxel(image_, image_.linear_index(nc[0], nc[1], nc[2], nc[3])))
+        continue;
+      const Point4 other = image_.voxel_center(nc[0], nc[1], nc[2], nc[3]);
+      const double dn = distance(x, other);
+      if (dn <= 1e-9 * voxel_size_) continue;
+      if (auto z = first_crossing(x, lerp(x, other, (dn + 1.5 * voxel_size_) / dn)))
+        candidates.push_back(*z);
+    }
+  }
   if (candidates.empty()) return {x, label_at(x), label_at(x)};  // unreachable when validated
+  // The closest few starts are worth a descent.
+  std::sort(candidates.begin(), candidates.end(),
+            [&](const SurfacePoint& a, const SurfacePoint& b) {
+              return distance(x, a.point) < distance(x, b.point);
+            });
+  if (candidates.size() > 6) candidates.resize(6);
 
   // Refine each candidate and keep the closest: the interpolated surface of a voxelized shape
   // is bumpy at the voxel scale, so a single descent can stop on the wrong bump.
