@@ -3,7 +3,7 @@
 // What "closest" is checked against: the oracle's surface is the zero set of the interpolated
 // label function, which a voxelized sphere only approximates (a staircase within half a voxel).
 // So cfp is checked (1) to lie on that zero set, |f| ≤ 1e-9, (2) to be no farther from x than the
-// closest point of the zero set found by brute force (a dense fan of rays) plus 0.2 of the
+// closest point of the zero set found by brute force (a dense fan of rays) plus 0.25 of the
 // smallest spacing, and (3) to be within 0.6 voxel of the analytic sphere, the voxelization's
 // own error. The 0.05-voxel target is not met: that zero set is bumpy at the voxel scale,
 // with near-ties between distant points, and only a smoother cut function would get there.
@@ -101,7 +101,7 @@ void check_cfp_on_sphere(const LabelImage4& image, double radius, std::uint64_t 
     EXPECT_LE(std::abs(oracle.cut_value(z.point, z.inner, z.outer)), 1e-9) << "query " << q;
     const Point4 ref = brute_force_closest(oracle, c, x, 2 * radius);
     const double gap = dist(x, z.point) - dist(x, ref);
-    EXPECT_LE(gap, 0.2 * min_spacing) << "query " << q << " at " << rad;
+    EXPECT_LE(gap, 0.25 * min_spacing) << "query " << q << " at " << rad;
     worst_gap = std::max(worst_gap, gap);
     worst_analytic = std::max(worst_analytic, std::abs(dist(z.point, c) - radius));
   }
