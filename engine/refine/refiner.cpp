@@ -34,7 +34,7 @@ double distance(const Point4& a, const Point4& b) {
 }  // namespace
 
 Refiner::Refiner(const domain::SurfaceOracle& oracle, const RefineParams& params)
-    : oracle_(oracle), params_(params), features_(params.delta) {
+    : oracle_(oracle), params_(params), features_(params.delta), rng_(params.seed) {
   validate(params_);
 }
 
@@ -93,11 +93,12 @@ Refiner::Rule Refiner::quick_rule(CellId c) const {
     return kR3;
   if (oracle_.surface_distance_bounds(center).first < r) return kR1;
   if (inside && rho >= params_.radius_edge_bound) return kR3;
+  if (inside && delaunay::normalized_volume(s) < params_.sliver_bound) return kR4;
   if (inside && params_.max_interior_radius > 0 && r > params_.max_interior_radius) return kSizing;
   return kNone;
 }
 
-Refiner::Rule Refiner::classify(CellId c, Point4* point, VertexKind* kind) const {
+Refiner::Rule Refiner::classify(CellId c, Point4* point, VertexKind* kind) {
   const auto s = simplex_of(tri_, c);
   const Point4 center = delaunay::circumcenter(s);
   if (!std::isfinite(center[0])) return kNone;
@@ -121,8 +122,49 @@ Refiner::Rule Refiner::classify(CellId c, Point4* point, VertexKind* kind) const
     }
   }
   if (bad_ratio) return kR3;
+  if (inside && delaunay::normalized_volume(s) < params_.sliver_bound) {
+    *point = pick_from_region(c, center, r);
+    return kR4;
+  }
   if (inside && params_.max_interior_radius > 0 && r > params_.max_interior_radius) return kSizing;
   return kNone;
+}
+
+Point4 Refiner::pick_from_region(CellId c, const Point4& center, double radius) {
+  // R4's picking region: the ball of radius ζ·R around the circumcenter. Each trial point's
+  // cavity is computed (without committing) and the new pentatopes it would make are measured;
+  // the first point whose worst new pentatope is no sliver wins, else the best one tried.
+  const VertexId next_id = static_cast<VertexId>(tri_.store().vertex_slots());
+  std::normal_distribution<double> gauss;
+  std::uniform_real_distribution<double> uniform(0, 1);
+  Point4 best = center;
+  double best_quality = -1;
+  for (unsigned trial = 0; trial < params_.picking_trials; ++trial) {
+    Point4 p;
+    double n2 = 0;
+    for (double& x : p) x = gauss(rng_), n2 += x * x;
+    // Uniform in the 4-ball: radius ∝ u^(1/4).
+    const double scale =
+        params_.picking_ratio * radius * std::pow(uniform(rng_), 0.25) / std::sqrt(n2);
+    for (int k = 0; k < 4; ++k) p[k] = center[k] + scale * p[k];
+    if (p != clamp_to_box(p)) continue;
+    const CellId located = tri_.locate(p, c);
+    bool duplicate = false;
+    if (!tri_.store().is_infinite(located))
+      for (VertexId v : tri_.store().cell(located).v) duplicate |= tri_.store().point(v) == p;
+    if (duplicate) continue;
+    tri_.find_cavity(p, next_id, located, scratch_);
+    double worst = 1;
+    for (const auto& f : scratch_.boundary) {
+      if (tri_.store().is_infinite(f.cell)) continue;
+      delaunay::Simplex4 s = simplex_of(tri_, f.cell);
+      s[f.index] = p;
+      worst = std::min(worst, delaunay::normalized_volume(s));
+    }
+    if (worst > best_quality) best_quality = worst, best = p;
+    if (worst >= params_.sliver_bound) break;
+  }
+  return best;
 }
 
 void Refiner::enqueue(CellId c) {
@@ -160,9 +202,9 @@ RefineResult Refiner::run(ProgressSink* sink) {
     if (tri_.store().is_live(c)) enqueue(c);
 
   // Priority: the order of the rules (R3 first by default), through one stack per rule.
-  const std::array<Rule, 4> order = params_.rule_order == RuleOrder::r3_first
-                                        ? std::array<Rule, 4>{kR3, kR1, kR2, kSizing}
-                                        : std::array<Rule, 4>{kR1, kR2, kR3, kSizing};
+  const std::array<Rule, 5> order = params_.rule_order == RuleOrder::r3_first
+                                        ? std::array<Rule, 5>{kR3, kR1, kR2, kR4, kSizing}
+                                        : std::array<Rule, 5>{kR1, kR2, kR3, kR4, kSizing};
   std::uint64_t operations = 0;
   std::vector<CellId> star;
   while (true) {

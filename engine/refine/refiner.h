@@ -2,13 +2,15 @@
 // "Refinement").
 //
 // Status: rules R1 (sample ∂Ω at cfp of circumcenters), R2 (big circumballs meeting ∂Ω), R3
-// (radius-edge ratio inside Ω, first by default) and the optional interior sizing bound are
-// implemented; R4 (sliver removal through picking regions) and R5 (restricted facets with
-// non-feature vertices, and the removal of nearby free vertices) are not yet, so the boundary
-// fidelity guarantees of the paper (Theorem 2) do not hold yet and slivers are not removed.
+// (radius-edge ratio inside Ω, first by default), R4 (slivers inside Ω, through a picking region
+// whose trial points' cavities are measured before one is chosen) and the optional interior
+// sizing bound are implemented; R5 (restricted facets with non-feature vertices, and the removal
+// of nearby free vertices) is not yet, so the boundary fidelity guarantees of the paper
+// (Theorem 2) do not hold yet.
 #pragma once
 
 #include <chrono>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -52,7 +54,8 @@ class Refiner {
   Rule quick_rule(delaunay::CellId c) const;  // a cheap priority guess, confirmed when popped
   bool still_valid(const Candidate& k) const;
   // Decides what to do with a live pentatope: the rule that applies and the point to insert.
-  Rule classify(delaunay::CellId c, Point4* point, delaunay::VertexKind* kind) const;
+  Rule classify(delaunay::CellId c, Point4* point, delaunay::VertexKind* kind);
+  Point4 pick_from_region(delaunay::CellId c, const Point4& center, double radius);
   bool ball_meets_surface(const Point4& center, double radius, Point4* cfp) const;
   Point4 clamp_to_box(const Point4& p) const;
   void report(ProgressSink* sink, Phase phase, bool force);
@@ -64,6 +67,8 @@ class Refiner {
   std::array<Point4, 2> box_;
   std::array<std::vector<Candidate>, kNone> queues_;  // one stack per rule
   FeatureIndex features_;
+  std::mt19937_64 rng_;       // of the picking regions, seeded by RefineParams::seed
+  delaunay::Cavity scratch_;  // trial cavities of the picking regions
   Progress progress_;
   std::chrono::steady_clock::time_point start_, last_report_;
 };

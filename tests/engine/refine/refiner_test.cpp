@@ -1,5 +1,6 @@
-// Sequential refinement with the rules implemented so far (R1, R2, R3, sizing): termination,
-// validity, the radius-edge bound on the output, labels, volume, cancellation and the budget.
+// Sequential refinement with the rules implemented so far (R1 to R4, sizing): termination,
+// validity, the radius-edge and sliver bounds on the output, labels, volume, cancellation and the
+// budget.
 #include "refine/refiner.h"
 
 #include <gtest/gtest.h>
@@ -68,6 +69,7 @@ TEST(Refiner, HypersphereTerminatesValidWithBoundedRatioAndTheRightVolume) {
   ASSERT_TRUE(check.ok) << check.error;
   ASSERT_GT(r.stats.pentatopes, 100u);
   EXPECT_LT(r.stats.radius_edge_ratio.max, params.radius_edge_bound);
+  EXPECT_GE(r.stats.normalized_volume.min, params.sliver_bound);  // R4 leaves no interior sliver
   for (auto l : r.mesh.labels) ASSERT_EQ(l, 1);
   const double ball = std::numbers::pi * std::numbers::pi / 2 * std::pow(12.0, 4);
   const double meshed = output_volume(r.mesh);
