@@ -52,8 +52,8 @@ class Triangulation {
   /// Removes a vertex that is not on the convex hull and re-triangulates the hole with the
   /// Delaunay triangulation of its link (older vertices first). Returns false, changing nothing,
   /// for the infinite vertex, a removed vertex, or a hull vertex. Feature vertices are the
-  /// caller's to protect.
-  bool remove(VertexId v);
+  /// caller's to protect. The pentatopes that fill the hole are appended to `created` if given.
+  bool remove(VertexId v, std::vector<CellId>* created = nullptr);
 
   // --- The three steps of an insertion ------------------------------------------------------
 

@@ -45,7 +45,7 @@ void Triangulation::collect_star(VertexId v, std::vector<CellId>& star) const {
   }
 }
 
-bool Triangulation::remove(VertexId v) {
+bool Triangulation::remove(VertexId v, std::vector<CellId>* created) {
   if (dimension_ < 4 || v == kInfiniteVertex || v >= store_.vertex_slots()) return false;
   const Vertex& vertex = store_.vertex(v);
   if (vertex.kind == VertexKind::removed || vertex.cell == kNoCell) return false;
@@ -124,8 +124,10 @@ bool Triangulation::remove(VertexId v) {
   if (glued != boundary.size())
     throw std::logic_error("Triangulation::remove: hole boundary not closed");
 
-  for (const auto& [local_cell, g] : to_global)
+  for (const auto& [local_cell, g] : to_global) {
     for (VertexId u : store_.cell(g).v) store_.vertex(u).cell = g;
+    if (created) created->push_back(g);
+  }
   for (CellId c : star) store_.destroy_cell(c);
   store_.vertex(v).cell = kNoCell;
   store_.vertex(v).kind = VertexKind::removed;

@@ -208,9 +208,10 @@ SurfacePoint SurfaceOracle::closest_surface_point(const Point4& x, CfpMode mode)
       n[a] += side * image_.spacing()[a];
       if (auto z = first_crossing(center, n)) candidates.push_back(*z);
     }
-  if (mode == CfpMode::descent) {
+  if (mode == CfpMode::descent || candidates.empty()) {
     // More starts: rays from x through the surface voxels around the nearest one (the zero set
     // near x is bumpy, and the closest bump need not be the one the nearest voxel points at).
+    // The ray mode takes them only when its own starts found nothing.
     for (int k = 0; k < 81; ++k) {
       std::size_t nc[4];
       bool ok = k != 40;  // 40 is the voxel itself

@@ -46,7 +46,9 @@ class SurfaceOracle {
   /// to where x − z is normal to it.
   enum class CfpMode { ray, descent };
 
-  /// cfp(x): the closest point of ∂Ω to x (see CfpMode).
+  /// cfp(x): the closest point of ∂Ω to x (see CfpMode). If no crossing is found near the
+  /// nearest surface voxel (never seen on a validated image), returns x with inner == outer:
+  /// callers check that before using the point as a surface point.
   SurfacePoint closest_surface_point(const Point4& x, CfpMode mode = CfpMode::descent) const;
 
   /// Cheap bounds on the distance from x to ∂Ω, from the feature transform alone (no search):

@@ -78,6 +78,7 @@ bool Refiner::ball_meets_surface(const Point4& center, double radius, Point4* cf
   // closest point costs ten times more and changes little for sampling.
   const domain::SurfacePoint z =
       oracle_.closest_surface_point(center, domain::SurfaceOracle::CfpMode::ray);
+  if (z.inner == z.outer) return false;  // no surface point found near the feature voxel
   *cfp = z.point;
   return distance(center, z.point) < radius;
 }
@@ -95,6 +96,12 @@ Refiner::Rule Refiner::quick_rule(CellId c) const {
   if (inside && rho >= params_.radius_edge_bound) return kR3;
   if (inside && delaunay::normalized_volume(s) < params_.sliver_bound) return kR4;
   if (inside && params_.max_interior_radius > 0 && r > params_.max_interior_radius) return kSizing;
+  // R5 needs a vertex that is not on ∂Ω and a circumball that may reach ∂Ω (a restricted facet's
+  // Voronoi edge starts at this circumcenter); classify() checks the facets themselves.
+  const auto& cell = tri_.store().cell(c);
+  bool all_feature = true;
+  for (VertexId v : cell.v) all_feature &= tri_.store().vertex(v).kind == VertexKind::feature;
+  if (!all_feature && oracle_.surface_distance_bounds(center).first < r) return kR5;
   return kNone;
 }
 
@@ -127,14 +134,109 @@ Refiner::Rule Refiner::classify(CellId c, Point4* point, VertexKind* kind) {
     return kR4;
   }
   if (inside && params_.max_interior_radius > 0 && r > params_.max_interior_radius) return kSizing;
+  Point4 surface_center;
+  double surface_radius;
+  if (find_restricted_facet(c, center, &surface_center, &surface_radius)) {
+    *point = pick_on_surface(c, surface_center, surface_radius);
+    *kind = VertexKind::feature;
+    return kR5;
+  }
   return kNone;
+}
+
+bool Refiner::find_restricted_facet(CellId c, const Point4& center, Point4* surface_center,
+                                    double* surface_radius) const {
+  // A facet is restricted when its Voronoi edge, the segment between the circumcenters of its
+  // two pentatopes, crosses ∂Ω (the labels at its ends differ; that is also exactly when the
+  // facet separates output pentatopes of different labels). R5 applies when such a facet has a
+  // vertex that is not on ∂Ω.
+  const auto& st = tri_.store();
+  const auto& cell = st.cell(c);
+  const domain::Label own = oracle_.label_at(center);
+  for (int i = 0; i < 5; ++i) {
+    bool all_feature = true;
+    for (int k = 0; k < 5; ++k)
+      if (k != i) all_feature &= st.vertex(cell.v[k]).kind == VertexKind::feature;
+    if (all_feature) continue;
+    const CellId n = cell.n[i];
+    if (st.is_infinite(n)) continue;
+    const Point4 other = delaunay::circumcenter(simplex_of(tri_, n));
+    if (!std::isfinite(other[0]) || oracle_.label_at(other) == own) continue;
+    const auto z = oracle_.first_crossing(center, other);
+    if (!z) continue;
+    *surface_center = z->point;
+    // z is on the Voronoi edge, equidistant from the facet's vertices.
+    *surface_radius = distance(z->point, st.point(cell.v[(i + 1) % 5]));
+    return true;
+  }
+  return false;
+}
+
+double Refiner::worst_new_quality(const Point4& p, CellId hint) {
+  // The normalized volume of the worst pentatope that inserting p would create (its cavity is
+  // computed, not committed); -1 for a point equal to a vertex.
+  const VertexId next_id = static_cast<VertexId>(tri_.store().vertex_slots());
+  const CellId located = tri_.locate(p, hint);
+  if (!tri_.store().is_infinite(located))
+    for (VertexId v : tri_.store().cell(located).v)
+      if (tri_.store().point(v) == p) return -1;
+  tri_.find_cavity(p, next_id, located, scratch_);
+  double worst = 1;
+  for (const auto& f : scratch_.boundary) {
+    if (tri_.store().is_infinite(f.cell)) continue;
+    delaunay::Simplex4 s = simplex_of(tri_, f.cell);
+    s[f.index] = p;
+    worst = std::min(worst, delaunay::normalized_volume(s));
+  }
+  return worst;
+}
+
+Point4 Refiner::pick_on_surface(CellId c, const Point4& z, double radius) {
+  // R5's picking region: points of ∂Ω within ζ·R of the surface center z. Trials are random
+  // points of that ball pulled onto ∂Ω (cfp); z itself is the first.
+  Point4 best = z;
+  double best_quality = worst_new_quality(z, c);
+  std::normal_distribution<double> gauss;
+  std::uniform_real_distribution<double> uniform(0, 1);
+  const double reach = params_.picking_ratio * radius;
+  for (unsigned trial = 1; trial < params_.picking_trials && best_quality < params_.sliver_bound;
+       ++trial) {
+    Point4 p;
+    double n2 = 0;
+    for (double& x : p) x = gauss(rng_), n2 += x * x;
+    const double scale = reach * std::pow(uniform(rng_), 0.25) / std::sqrt(n2);
+    for (int k = 0; k < 4; ++k) p[k] = z[k] + scale * p[k];
+    const domain::SurfacePoint sq =
+        oracle_.closest_surface_point(p, domain::SurfaceOracle::CfpMode::ray);
+    const Point4 q = sq.point;
+    if (sq.inner == sq.outer || distance(q, z) > reach || q != clamp_to_box(q)) continue;
+    const double quality = worst_new_quality(q, c);
+    if (quality > best_quality) best_quality = quality, best = q;
+  }
+  return best;
+}
+
+void Refiner::remove_free_vertices_near(VertexId v, std::vector<CellId>& created) {
+  // R5's second half: free vertices closer than Δ to the new surface point go, so that the
+  // surface is not approached too closely from inside (feature and box vertices stay).
+  const Point4 p = tri_.store().point(v);
+  std::vector<CellId> star;
+  tri_.incident_cells(v, star);
+  std::vector<VertexId> near;
+  for (CellId c : star)
+    for (VertexId u : tri_.store().cell(c).v)
+      if (u != v && tri_.store().vertex(u).kind == VertexKind::free &&
+          distance(tri_.store().point(u), p) < params_.delta &&
+          std::find(near.begin(), near.end(), u) == near.end())
+        near.push_back(u);
+  for (VertexId u : near)
+    if (tri_.remove(u, &created)) ++progress_.removals[kR5];
 }
 
 Point4 Refiner::pick_from_region(CellId c, const Point4& center, double radius) {
   // R4's picking region: the ball of radius ζ·R around the circumcenter. Each trial point's
   // cavity is computed (without committing) and the new pentatopes it would make are measured;
   // the first point whose worst new pentatope is no sliver wins, else the best one tried.
-  const VertexId next_id = static_cast<VertexId>(tri_.store().vertex_slots());
   std::normal_distribution<double> gauss;
   std::uniform_real_distribution<double> uniform(0, 1);
   Point4 best = center;
@@ -148,19 +250,8 @@ Point4 Refiner::pick_from_region(CellId c, const Point4& center, double radius) 
         params_.picking_ratio * radius * std::pow(uniform(rng_), 0.25) / std::sqrt(n2);
     for (int k = 0; k < 4; ++k) p[k] = center[k] + scale * p[k];
     if (p != clamp_to_box(p)) continue;
-    const CellId located = tri_.locate(p, c);
-    bool duplicate = false;
-    if (!tri_.store().is_infinite(located))
-      for (VertexId v : tri_.store().cell(located).v) duplicate |= tri_.store().point(v) == p;
-    if (duplicate) continue;
-    tri_.find_cavity(p, next_id, located, scratch_);
-    double worst = 1;
-    for (const auto& f : scratch_.boundary) {
-      if (tri_.store().is_infinite(f.cell)) continue;
-      delaunay::Simplex4 s = simplex_of(tri_, f.cell);
-      s[f.index] = p;
-      worst = std::min(worst, delaunay::normalized_volume(s));
-    }
+    const double worst = worst_new_quality(p, c);
+    if (worst < 0) continue;
     if (worst > best_quality) best_quality = worst, best = p;
     if (worst >= params_.sliver_bound) break;
   }
@@ -202,9 +293,9 @@ RefineResult Refiner::run(ProgressSink* sink) {
     if (tri_.store().is_live(c)) enqueue(c);
 
   // Priority: the order of the rules (R3 first by default), through one stack per rule.
-  const std::array<Rule, 5> order = params_.rule_order == RuleOrder::r3_first
-                                        ? std::array<Rule, 5>{kR3, kR1, kR2, kR4, kSizing}
-                                        : std::array<Rule, 5>{kR1, kR2, kR3, kR4, kSizing};
+  const std::array<Rule, 6> order = params_.rule_order == RuleOrder::r3_first
+                                        ? std::array<Rule, 6>{kR3, kR1, kR2, kR4, kSizing, kR5}
+                                        : std::array<Rule, 6>{kR1, kR2, kR3, kR4, kSizing, kR5};
   std::uint64_t operations = 0;
   std::vector<CellId> star;
   while (true) {
@@ -237,9 +328,13 @@ RefineResult Refiner::run(ProgressSink* sink) {
     if (!result.inserted) continue;
     if (kind == VertexKind::feature) features_.add(point);
     ++progress_.insertions[rule == kSizing ? kR3 : rule];
-    // The new pentatopes are exactly the star of the new vertex.
+    std::vector<CellId> created;
+    if (rule == kR5) remove_free_vertices_near(result.vertex, created);
+    // The new pentatopes: the star of the new vertex, and what filled removed vertices' holes.
     tri_.incident_cells(result.vertex, star);
     for (CellId c : star) enqueue(c);
+    for (CellId c : created)
+      if (tri_.store().is_live(c)) enqueue(c);
   }
 
   report(sink, Phase::extracting, true);

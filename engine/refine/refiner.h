@@ -56,6 +56,11 @@ class Refiner {
   // Decides what to do with a live pentatope: the rule that applies and the point to insert.
   Rule classify(delaunay::CellId c, Point4* point, delaunay::VertexKind* kind);
   Point4 pick_from_region(delaunay::CellId c, const Point4& center, double radius);
+  bool find_restricted_facet(delaunay::CellId c, const Point4& center, Point4* surface_center,
+                             double* surface_radius) const;
+  Point4 pick_on_surface(delaunay::CellId c, const Point4& z, double radius);
+  double worst_new_quality(const Point4& p, delaunay::CellId hint);
+  void remove_free_vertices_near(mesh4d::VertexId v, std::vector<delaunay::CellId>& created);
   bool ball_meets_surface(const Point4& center, double radius, Point4* cfp) const;
   Point4 clamp_to_box(const Point4& p) const;
   void report(ProgressSink* sink, Phase phase, bool force);
