@@ -74,7 +74,9 @@ void expect_fidelity(const mesh::Mesh4& m, const domain::SurfaceOracle& oracle,
       "boundary triangles: %zu, in an odd number of facets: %zu, pinched (4 or more): %zu\n",
       triangles.size(), odd, pinched);
   EXPECT_EQ(odd, 0u);
-  if (manifold) EXPECT_EQ(pinched, 0u);
+  if (manifold) {
+    EXPECT_EQ(pinched, 0u);
+  }
 }
 
 TEST(RefineParams, OutOfRangeValuesAreRefusedByName) {
