@@ -1,0 +1,121 @@
+// refine_bench: sequential refinement on the phantoms, one row per run in the form of the
+// paper's Table 2, plus pentatopes per second, insertions, and peak memory; the paper's rule
+// order against R3-first on the same input. Each run is a forked child (its own peak memory).
+//
+// The paper's figures for scale: 145 pentatopes/s on its 40k-pentatope hypersphere, 184 with
+// R3 first; Pat1 at δ = 5: 49,479 pentatopes, 4,709 vertices, 30,758 boundary tetrahedra.
+// Not yet here: the five patients and CGAL Mesh_3 per frame (issue 5).
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <string>
+
+#include "domain/phantoms.h"
+#include "domain/surface_oracle.h"
+#include "refine/refiner.h"
+
+using namespace mesh4d;
+
+namespace {
+
+struct Row {
+  mesh::MeshStats stats;
+  std::uint64_t insertions = 0;
+  double peak_mb = 0;
+  double seconds = 0;
+};
+
+long status_kb(const char* field) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  const std::size_t n = std::strlen(field);
+  while (std::getline(in, line))
+    if (line.compare(0, n, field) == 0) return std::stol(line.substr(n + 1));
+  return 0;
+}
+
+// Runs in a child: the oracle and refinement of `image` with `params`; fixed-size results only.
+struct Flat {
+  std::uint64_t vertices, pentatopes, boundary, insertions;
+  double shortest, rho_max, rho_mean, rho_std, tau_min, tau_mean, tau_std, seconds, peak_mb;
+  bool ok;
+};
+
+Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& params) {
+  Flat f{};
+  int fd[2];
+  if (pipe(fd) != 0) return f;
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fd[0]);
+    domain::LabelImage4 closed = image;
+    domain::validate_and_close(closed);
+    const domain::SurfaceOracle oracle(closed);
+    refine::Refiner refiner(oracle, params);
+    const auto r = refiner.run();
+    Flat out{r.stats.vertices,
+             r.stats.pentatopes,
+             r.stats.boundary_tetrahedra,
+             0,
+             r.stats.shortest_edge,
+             r.stats.radius_edge_ratio.max,
+             r.stats.radius_edge_ratio.mean,
+             r.stats.radius_edge_ratio.stddev,
+             r.stats.normalized_volume.min,
+             r.stats.normalized_volume.mean,
+             r.stats.normalized_volume.stddev,
+             r.stats.elapsed_seconds,
+             status_kb("VmHWM:") / 1024.0,
+             true};
+    for (auto n : r.stats.insertions) out.insertions += n;
+    if (write(fd[1], &out, sizeof out) != sizeof out) _exit(1);
+    _exit(0);
+  }
+  close(fd[1]);
+  if (read(fd[0], &f, sizeof f) != sizeof f) f.ok = false;
+  close(fd[0]);
+  waitpid(pid, nullptr, 0);
+  return f;
+}
+
+void row(const char* name, const domain::LabelImage4& image, double delta,
+         refine::RuleOrder order) {
+  refine::RefineParams params;
+  params.delta = delta;
+  params.rule_order = order;
+  const Flat f = run_child(image, params);
+  if (!f.ok) {
+    std::printf("| %s | run failed |\n", name);
+    return;
+  }
+  std::printf(
+      "| %s | %s | %g | %llu | %llu | %llu | %.2f | %.2f / %.2f / %.2f | %.4f / %.2f / %.2f | "
+      "%.2f | %.0f | %llu | %.0f |\n",
+      name, order == refine::RuleOrder::r3_first ? "R3 first" : "paper", delta,
+      (unsigned long long)f.pentatopes, (unsigned long long)f.boundary,
+      (unsigned long long)f.vertices, f.shortest, f.rho_max, f.rho_mean, f.rho_std, f.tau_min,
+      f.tau_mean, f.tau_std, f.seconds, f.pentatopes / f.seconds, (unsigned long long)f.insertions,
+      f.peak_mb);
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main() {
+  std::printf("Sequential refinement (R1-R5), one thread\n");
+  std::printf(
+      "| input | rule order | δ | pentatopes | boundary tets | vertices | shortest edge | "
+      "radius-edge max / mean / std | normalized volume min / mean / std | time s | "
+      "pentatopes/s | insertions | peak MB "
+      "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  const auto sphere = domain::hypersphere_phantom({32, 32, 32, 32}, {1, 1, 1, 1}, 12);
+  row("hypersphere r=12", sphere, 2, refine::RuleOrder::r3_first);
+  row("hypersphere r=12", sphere, 2, refine::RuleOrder::paper);
+  const auto ventricle = domain::beating_ventricle_phantom();
+  row("ventricle 100x100x44x15", ventricle, 5, refine::RuleOrder::r3_first);
+  row("ventricle 100x100x44x15", ventricle, 5, refine::RuleOrder::paper);
+  return 0;
+}
