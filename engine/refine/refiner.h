@@ -1,12 +1,11 @@
 // Sequential Delaunay refinement of a 4D image (Foteinos & Chrisochoides; ALGORITHM.md,
 // "Refinement").
 //
-// Status: rules R1 (sample ∂Ω at cfp of circumcenters), R2 (big circumballs meeting ∂Ω), R3
-// (radius-edge ratio inside Ω, first by default), R4 (slivers inside Ω, through a picking region
-// whose trial points' cavities are measured before one is chosen) and the optional interior
-// sizing bound are implemented; R5 (restricted facets with non-feature vertices, and the removal
-// of nearby free vertices) is not yet, so the boundary fidelity guarantees of the paper
-// (Theorem 2) do not hold yet.
+// Status: first version. All five rules (R1 to R5, R3 first by default) and an interior sizing
+// bound; picking regions for R4 and R5 measure the cavity of each trial point before choosing.
+// Tested on the hypersphere (boundary vertices on ∂Ω, closed manifold boundary, radius-edge and
+// sliver bounds) and the ventricle (closed region boundaries; pinched triangles remain where
+// three labels meet). Not yet checked on every phantom and on real data, and not yet fast.
 #pragma once
 
 #include <chrono>
