@@ -4,15 +4,21 @@
 //
 // The paper's figures for scale: 145 pentatopes/s on its 40k-pentatope hypersphere, 184 with
 // R3 first; Pat1 at δ = 5: 49,479 pentatopes, 4,709 vertices, 30,758 boundary tetrahedra.
-// Not yet here: the five patients and CGAL Mesh_3 per frame (issue 5).
+// The five patients of ../shared/data/heart4d (when present) at δ = 5, with the files' spacing
+// (all 25 frames) and with the paper's (1.77, 1.77, 6, 1; first 15 frames). Not yet here: CGAL
+// Mesh_3 per frame (issue 5).
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <string>
 
+#include "domain/image_io.h"
 #include "domain/phantoms.h"
 #include "domain/surface_oracle.h"
 #include "refine/refiner.h"
@@ -39,7 +45,7 @@ long status_kb(const char* field) {
 
 // Runs in a child: the oracle and refinement of `image` with `params`; fixed-size results only.
 struct Flat {
-  std::uint64_t vertices, pentatopes, boundary, insertions;
+  std::uint64_t vertices, pentatopes, boundary, insertions, off_surface, pinched;
   double shortest, rho_max, rho_mean, rho_std, tau_min, tau_mean, tau_std, seconds, peak_mb;
   bool ok;
 };
@@ -56,10 +62,26 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
     const domain::SurfaceOracle oracle(closed);
     refine::Refiner refiner(oracle, params);
     const auto r = refiner.run();
+    // Boundary vertices that are not on ∂Ω, and triangles in more than two facets of a region.
+    std::uint64_t off_surface = 0, pinched = 0;
+    std::map<std::array<std::uint32_t, 4>, int> triangles;
+    for (const auto& b : r.mesh.boundary) {
+      for (auto v : b.vertices) off_surface += r.mesh.vertex_kinds[v] != mesh::VertexKind::feature;
+      for (int skip = 0; skip < 4; ++skip) {
+        std::array<std::uint32_t, 3> t;
+        for (int k = 0, n = 0; k < 4; ++k)
+          if (k != skip) t[n++] = b.vertices[k];
+        std::sort(t.begin(), t.end());
+        ++triangles[{b.inner, t[0], t[1], t[2]}];
+      }
+    }
+    for (const auto& [key, count] : triangles) pinched += count > 2;
     Flat out{r.stats.vertices,
              r.stats.pentatopes,
              r.stats.boundary_tetrahedra,
              0,
+             off_surface,
+             pinched,
              r.stats.shortest_edge,
              r.stats.radius_edge_ratio.max,
              r.stats.radius_edge_ratio.mean,
@@ -93,12 +115,12 @@ void row(const char* name, const domain::LabelImage4& image, double delta,
   }
   std::printf(
       "| %s | %s | %g | %llu | %llu | %llu | %.2f | %.2f / %.2f / %.2f | %.4f / %.2f / %.2f | "
-      "%.2f | %.0f | %llu | %.0f |\n",
+      "%.2f | %.0f | %llu | %.0f | %llu | %llu |\n",
       name, order == refine::RuleOrder::r3_first ? "R3 first" : "paper", delta,
       (unsigned long long)f.pentatopes, (unsigned long long)f.boundary,
       (unsigned long long)f.vertices, f.shortest, f.rho_max, f.rho_mean, f.rho_std, f.tau_min,
       f.tau_mean, f.tau_std, f.seconds, f.pentatopes / f.seconds, (unsigned long long)f.insertions,
-      f.peak_mb);
+      f.peak_mb, (unsigned long long)f.off_surface, (unsigned long long)f.pinched);
   std::fflush(stdout);
 }
 
@@ -109,13 +131,30 @@ int main() {
   std::printf(
       "| input | rule order | δ | pentatopes | boundary tets | vertices | shortest edge | "
       "radius-edge max / mean / std | normalized volume min / mean / std | time s | "
-      "pentatopes/s | insertions | peak MB "
-      "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "pentatopes/s | insertions | peak MB | boundary vertex uses off ∂Ω | pinched triangles "
+      "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   const auto sphere = domain::hypersphere_phantom({32, 32, 32, 32}, {1, 1, 1, 1}, 12);
   row("hypersphere r=12", sphere, 2, refine::RuleOrder::r3_first);
   row("hypersphere r=12", sphere, 2, refine::RuleOrder::paper);
   const auto ventricle = domain::beating_ventricle_phantom();
   row("ventricle 100x100x44x15", ventricle, 5, refine::RuleOrder::r3_first);
   row("ventricle 100x100x44x15", ventricle, 5, refine::RuleOrder::paper);
+
+  const std::string dir = MESH4D_HEART_DATA_DIR;
+  for (int patient = 1; patient <= 5; ++patient) {
+    const std::string file = dir + "/Pat0" + std::to_string(patient) + "_mse4d_label4d.nii.gz";
+    if (!std::ifstream(file)) {
+      std::printf("(no real data: %s is absent)\n", file.c_str());
+      break;
+    }
+    const auto image = domain::read_label_image(file);
+    const std::string name = "Pat0" + std::to_string(patient);
+    row((name + ", file spacing, 25 frames").c_str(), image, 5, refine::RuleOrder::r3_first);
+    const auto& d = image.dims();
+    domain::LabelImage4 paper({d[0], d[1], d[2], 15}, {1.77, 1.77, 6, 1});
+    for (std::size_t i = 0; i < paper.voxel_count(); ++i)
+      if (image.at(i) != 0) paper.set(i, image.at(i));
+    row((name + ", paper spacing, 15 frames").c_str(), paper, 5, refine::RuleOrder::r3_first);
+  }
   return 0;
 }
