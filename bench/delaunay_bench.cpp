@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_util.h"
 #include "delaunay/predicates.h"
 #include "delaunay/spatial_sort.h"
 #include "delaunay/triangulation.h"
@@ -39,14 +40,7 @@ struct Measure {
   double dynamic_per_point = 0, double_double_per_point = 0, exact_per_point = 0;
 };
 
-long status_kb(const char* field) {
-  std::ifstream in("/proc/self/status");
-  std::string line;
-  const std::size_t n = std::strlen(field);
-  while (std::getline(in, line))
-    if (line.compare(0, n, field) == 0) return std::stol(line.substr(n + 1));
-  return 0;
-}
+using mesh4d::bench::status_kb;
 
 Measure run_mesh4d(const std::vector<Point4>& pts) {
   Measure m;

@@ -18,9 +18,11 @@
 #include <map>
 #include <string>
 
+#include "bench_util.h"
 #include "domain/image_io.h"
 #include "domain/phantoms.h"
 #include "domain/surface_oracle.h"
+#include "mesh/mesh_check.h"
 #include "refine/refiner.h"
 
 using namespace mesh4d;
@@ -34,14 +36,7 @@ struct Row {
   double seconds = 0;
 };
 
-long status_kb(const char* field) {
-  std::ifstream in("/proc/self/status");
-  std::string line;
-  const std::size_t n = std::strlen(field);
-  while (std::getline(in, line))
-    if (line.compare(0, n, field) == 0) return std::stol(line.substr(n + 1));
-  return 0;
-}
+using mesh4d::bench::status_kb;
 
 // Runs in a child: the oracle and refinement of `image` with `params`; fixed-size results only.
 struct Flat {
@@ -62,20 +57,8 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
     const domain::SurfaceOracle oracle(closed);
     refine::Refiner refiner(oracle, params);
     const auto r = refiner.run();
-    // Boundary vertices that are not on ∂Ω, and triangles in more than two facets of a region.
-    std::uint64_t off_surface = 0, pinched = 0;
-    std::map<std::array<std::uint32_t, 4>, int> triangles;
-    for (const auto& b : r.mesh.boundary) {
-      for (auto v : b.vertices) off_surface += r.mesh.vertex_kinds[v] != mesh::VertexKind::feature;
-      for (int skip = 0; skip < 4; ++skip) {
-        std::array<std::uint32_t, 3> t;
-        for (int k = 0, n = 0; k < 4; ++k)
-          if (k != skip) t[n++] = b.vertices[k];
-        std::sort(t.begin(), t.end());
-        ++triangles[{b.inner, t[0], t[1], t[2]}];
-      }
-    }
-    for (const auto& [key, count] : triangles) pinched += count > 2;
+    const mesh::BoundaryCheck check = mesh::check_boundary(r.mesh);
+    const std::uint64_t off_surface = check.non_feature_uses, pinched = check.pinched;
     Flat out{r.stats.vertices,
              r.stats.pentatopes,
              r.stats.boundary_tetrahedra,

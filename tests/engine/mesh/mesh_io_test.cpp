@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "mesh/mesh_check.h"
 #include "mesh/mesh_stats.h"
 
 namespace mesh4d::mesh {
@@ -109,6 +110,29 @@ TEST(MeshStats, CountsAndDistributions) {
   for (auto c : s.normalized_volume_histogram) total += c;
   EXPECT_EQ(total, 2u);
   EXPECT_EQ(s.normalized_volume_histogram.size(), std::size_t(kHistogramBins));
+}
+
+TEST(BoundaryCheck, OnePentatopeIsClosedAndTheSmallMeshIsNot) {
+  Mesh4 one;
+  one.vertices = {{0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}};
+  one.vertex_kinds.assign(5, VertexKind::feature);
+  one.pentatopes = {{0, 1, 2, 3, 4}};
+  one.labels = {1};
+  for (int skip = 0; skip < 5; ++skip) {
+    BoundaryTetrahedron b{{}, 0, 1, 0};
+    for (int k = 0, n = 0; k < 5; ++k)
+      if (k != skip) b.vertices[n++] = k;
+    one.boundary.push_back(b);
+  }
+  const BoundaryCheck closed = check_boundary(one);
+  EXPECT_EQ(closed.triangles, 10u);  // each triangle of a pentatope lies in two of its facets
+  EXPECT_EQ(closed.odd, 0u);
+  EXPECT_EQ(closed.pinched, 0u);
+  EXPECT_EQ(closed.non_feature_uses, 0u);
+
+  const BoundaryCheck open = check_boundary(small_mesh());
+  EXPECT_GT(open.odd, 0u);
+  EXPECT_GT(open.non_feature_uses, 0u);  // vertex 4 is free, vertex 0 a box corner
 }
 
 }  // namespace

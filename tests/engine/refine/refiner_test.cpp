@@ -8,12 +8,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <map>
 #include <numbers>
 
 #include "delaunay/checker.h"
 #include "delaunay/geometry.h"
 #include "domain/phantoms.h"
+#include "mesh/mesh_check.h"
 
 namespace mesh4d::refine {
 namespace {
@@ -55,24 +55,14 @@ void expect_fidelity(const mesh::Mesh4& m, const domain::SurfaceOracle& oracle,
       off_surface += weights[0] - weights[1] > 1e-6;
     }
   EXPECT_EQ(off_surface, 0u);
-  // Each label's region is closed: the boundary facets seen from that label (inner == label)
-  // hold each of their triangles exactly twice. (Per interface this fails where three labels
-  // meet, as at the ventricle's time caps; per region it must hold everywhere.)
-  std::map<std::array<std::uint32_t, 4>, int> triangles;  // (region, sorted triangle) -> count
-  for (const auto& b : m.boundary) {
-    for (int skip = 0; skip < 4; ++skip) {
-      std::array<std::uint32_t, 3> t;
-      for (int k = 0, n = 0; k < 4; ++k)
-        if (k != skip) t[n++] = b.vertices[k];
-      std::sort(t.begin(), t.end());
-      ++triangles[{b.inner, t[0], t[1], t[2]}];
-    }
-  }
-  std::size_t odd = 0, pinched = 0;
-  for (const auto& [key, count] : triangles) odd += count % 2, pinched += count > 2;
+  // Each label's region is closed; per interface this fails where three labels meet, as at the
+  // ventricle's time caps, per region it must hold everywhere.
+  const mesh::BoundaryCheck check = mesh::check_boundary(m);
+  const std::size_t odd = check.odd, pinched = check.pinched;
   std::printf(
       "boundary triangles: %zu, in an odd number of facets: %zu, pinched (4 or more): %zu\n",
-      triangles.size(), odd, pinched);
+      check.triangles, odd, pinched);
+  EXPECT_EQ(check.non_feature_uses, 0u);
   EXPECT_EQ(odd, 0u);
   if (manifold) {
     EXPECT_EQ(pinched, 0u);
