@@ -17,6 +17,7 @@ using mesh4d::VertexId;
 namespace {
 
 constexpr auto kReportInterval = std::chrono::milliseconds(200);
+constexpr int kRepairRounds = 40;  // of pinch repair, each followed by the rules
 
 delaunay::Simplex4 simplex_of(const delaunay::Triangulation& t, CellId c) {
   delaunay::Simplex4 s;
@@ -83,34 +84,64 @@ bool Refiner::ball_meets_surface(const Point4& center, double radius, Point4* cf
   return distance(center, z.point) < radius;
 }
 
-Refiner::Rule Refiner::quick_rule(CellId c) const {
+void Refiner::update_info(CellId c) {
+  if (c >= info_.size()) info_.resize(tri_.store().cell_slots());
+  CellInfo& info = info_[c];
+  info.finite = false;
+  if (tri_.store().is_infinite(c)) return;
   const auto s = simplex_of(tri_, c);
-  const Point4 center = delaunay::circumcenter(s);
-  if (!std::isfinite(center[0])) return kNone;
-  const double r = distance(center, s[0]);
-  const bool inside = oracle_.label_at(center) != 0;
+  info.center = delaunay::circumcenter(s);
+  if (!std::isfinite(info.center[0])) return;
+  info.radius = distance(info.center, s[0]);
+  info.label = oracle_.label_at(info.center);
+  info.finite = true;
+}
+
+void Refiner::admit(const std::vector<CellId>& cells) {
+  for (CellId c : cells) update_info(c);
+  for (CellId c : cells) enqueue(c);
+}
+
+bool Refiner::has_restricted_non_feature_facet(CellId c) const {
+  // A facet is restricted when the labels at the circumcenters of its two pentatopes differ
+  // (its Voronoi edge crosses ∂Ω). Checked from both sides' cached labels, so that a facet whose
+  // crossing lies outside this pentatope's circumball (inside the neighbor's) is still found.
+  const auto& st = tri_.store();
+  const auto& cell = st.cell(c);
+  const domain::Label own = info_[c].label;
+  for (int i = 0; i < 5; ++i) {
+    const CellId n = cell.n[i];
+    if (st.is_infinite(n) || !info_[n].finite || info_[n].label == own) continue;
+    for (int k = 0; k < 5; ++k)
+      if (k != i && st.vertex(cell.v[k]).kind != VertexKind::feature) return true;
+  }
+  return false;
+}
+
+Refiner::Rule Refiner::quick_rule(CellId c) const {
+  const CellInfo& info = info_[c];
+  if (!info.finite) return kNone;
+  const auto s = simplex_of(tri_, c);
+  const double r = info.radius;
+  const bool inside = info.label != 0;
   const double rho = r / delaunay::shortest_edge(s);
   if (params_.rule_order == RuleOrder::r3_first && inside && rho >= params_.radius_edge_bound)
     return kR3;
-  if (oracle_.surface_distance_bounds(center).first < r) return kR1;
+  if (oracle_.surface_distance_bounds(info.center).first < r) return kR1;
   if (inside && rho >= params_.radius_edge_bound) return kR3;
   if (inside && delaunay::normalized_volume(s) < params_.sliver_bound) return kR4;
   if (inside && params_.max_interior_radius > 0 && r > params_.max_interior_radius) return kSizing;
-  // R5 needs a vertex that is not on ∂Ω and a circumball that may reach ∂Ω (a restricted facet's
-  // Voronoi edge starts at this circumcenter); classify() checks the facets themselves.
-  const auto& cell = tri_.store().cell(c);
-  bool all_feature = true;
-  for (VertexId v : cell.v) all_feature &= tri_.store().vertex(v).kind == VertexKind::feature;
-  if (!all_feature && oracle_.surface_distance_bounds(center).first < r) return kR5;
+  if (has_restricted_non_feature_facet(c)) return kR5;
   return kNone;
 }
 
 Refiner::Rule Refiner::classify(CellId c, Point4* point, VertexKind* kind) {
+  const CellInfo& info = info_[c];
+  if (!info.finite) return kNone;
   const auto s = simplex_of(tri_, c);
-  const Point4 center = delaunay::circumcenter(s);
-  if (!std::isfinite(center[0])) return kNone;
-  const double r = distance(center, s[0]);
-  const bool inside = oracle_.label_at(center) != 0;
+  const Point4 center = info.center;
+  const double r = info.radius;
+  const bool inside = info.label != 0;
   const bool bad_ratio = inside && r / delaunay::shortest_edge(s) >= params_.radius_edge_bound;
   *kind = VertexKind::free;
   *point = center;
@@ -136,7 +167,7 @@ Refiner::Rule Refiner::classify(CellId c, Point4* point, VertexKind* kind) {
   if (inside && params_.max_interior_radius > 0 && r > params_.max_interior_radius) return kSizing;
   Point4 surface_center;
   double surface_radius;
-  if (find_restricted_facet(c, center, &surface_center, &surface_radius)) {
+  if (find_restricted_facet(c, &surface_center, &surface_radius)) {
     *point = pick_on_surface(c, surface_center, surface_radius);
     *kind = VertexKind::feature;
     return kR5;
@@ -144,7 +175,7 @@ Refiner::Rule Refiner::classify(CellId c, Point4* point, VertexKind* kind) {
   return kNone;
 }
 
-bool Refiner::find_restricted_facet(CellId c, const Point4& center, Point4* surface_center,
+bool Refiner::find_restricted_facet(CellId c, Point4* surface_center,
                                     double* surface_radius) const {
   // A facet is restricted when its Voronoi edge, the segment between the circumcenters of its
   // two pentatopes, crosses ∂Ω (the labels at its ends differ; that is also exactly when the
@@ -152,17 +183,15 @@ bool Refiner::find_restricted_facet(CellId c, const Point4& center, Point4* surf
   // vertex that is not on ∂Ω.
   const auto& st = tri_.store();
   const auto& cell = st.cell(c);
-  const domain::Label own = oracle_.label_at(center);
+  const CellInfo& own = info_[c];
   for (int i = 0; i < 5; ++i) {
     bool all_feature = true;
     for (int k = 0; k < 5; ++k)
       if (k != i) all_feature &= st.vertex(cell.v[k]).kind == VertexKind::feature;
     if (all_feature) continue;
     const CellId n = cell.n[i];
-    if (st.is_infinite(n)) continue;
-    const Point4 other = delaunay::circumcenter(simplex_of(tri_, n));
-    if (!std::isfinite(other[0]) || oracle_.label_at(other) == own) continue;
-    const auto z = oracle_.first_crossing(center, other);
+    if (st.is_infinite(n) || !info_[n].finite || info_[n].label == own.label) continue;
+    const auto z = oracle_.first_crossing(own.center, info_[n].center);
     if (!z) continue;
     *surface_center = z->point;
     // z is on the Voronoi edge, equidistant from the facet's vertices.
@@ -259,7 +288,7 @@ Point4 Refiner::pick_from_region(CellId c, const Point4& center, double radius) 
 }
 
 void Refiner::enqueue(CellId c) {
-  if (tri_.store().is_infinite(c)) return;
+  if (!tri_.store().is_live(c) || tri_.store().is_infinite(c)) return;
   const Rule rule = quick_rule(c);
   if (rule == kNone) return;
   Candidate k{c, {}};
@@ -286,18 +315,35 @@ void Refiner::report(ProgressSink* sink, Phase phase, bool force) {
   sink->on_progress(progress_);
 }
 
-RefineResult Refiner::run(ProgressSink* sink) {
-  start_ = last_report_ = std::chrono::steady_clock::now();
-  insert_box();
-  for (CellId c = 0; c < tri_.store().cell_slots(); ++c)
-    if (tri_.store().is_live(c)) enqueue(c);
+bool Refiner::insert_and_admit(const Point4& point, VertexKind kind, CellId hint, int rule) {
+  if (tri_.number_of_vertices() >= params_.vertex_budget) {
+    std::ostringstream s;
+    s << "refinement needs more than the vertex budget of " << params_.vertex_budget
+      << " vertices; raise vertex_budget or delta";
+    throw BudgetExceeded(s.str());
+  }
+  const auto result = tri_.insert(point, kind, hint);
+  if (!result.inserted) return false;
+  if (kind == VertexKind::feature) features_.add(point);
+  ++progress_.insertions[rule];
+  std::vector<CellId> created;
+  if (rule == kR5) remove_free_vertices_near(result.vertex, created);
+  // The new pentatopes: the star of the new vertex, and what filled removed vertices' holes
+  // (some of those may have died in a later removal).
+  tri_.incident_cells(result.vertex, fresh_);
+  for (CellId c : created)
+    if (tri_.store().is_live(c)) fresh_.push_back(c);
+  std::sort(fresh_.begin(), fresh_.end());
+  fresh_.erase(std::unique(fresh_.begin(), fresh_.end()), fresh_.end());
+  admit(fresh_);
+  return true;
+}
 
+void Refiner::drain(ProgressSink* sink) {
   // Priority: the order of the rules (R3 first by default), through one stack per rule.
   const std::array<Rule, 6> order = params_.rule_order == RuleOrder::r3_first
                                         ? std::array<Rule, 6>{kR3, kR1, kR2, kR4, kSizing, kR5}
                                         : std::array<Rule, 6>{kR1, kR2, kR3, kR4, kSizing, kR5};
-  std::uint64_t operations = 0;
-  std::vector<CellId> star;
   while (true) {
     std::vector<Candidate>* queue = nullptr;
     for (Rule r : order)
@@ -305,12 +351,12 @@ RefineResult Refiner::run(ProgressSink* sink) {
         queue = &queues_[r];
         break;
       }
-    if (!queue) break;
+    if (!queue) return;
     const Candidate k = queue->back();
     queue->pop_back();
     if (!still_valid(k)) continue;
 
-    if (++operations % 256 == 0) {
+    if (++operations_ % 256 == 0) {
       if (sink && sink->should_abort()) throw Cancelled();
       report(sink, Phase::refining, false);
     }
@@ -318,28 +364,42 @@ RefineResult Refiner::run(ProgressSink* sink) {
     VertexKind kind;
     const Rule rule = classify(k.cell, &point, &kind);
     if (rule == kNone) continue;
-    if (tri_.number_of_vertices() >= params_.vertex_budget) {
-      std::ostringstream s;
-      s << "refinement needs more than the vertex budget of " << params_.vertex_budget
-        << " vertices; raise vertex_budget or delta";
-      throw BudgetExceeded(s.str());
+    insert_and_admit(point, kind, k.cell, rule == kSizing ? kR3 : rule);
+  }
+}
+
+RefineResult Refiner::run(ProgressSink* sink) {
+  start_ = last_report_ = std::chrono::steady_clock::now();
+  insert_box();
+  std::vector<CellId> fresh;
+  for (CellId c = 0; c < tri_.store().cell_slots(); ++c)
+    if (tri_.store().is_live(c)) fresh.push_back(c);
+  admit(fresh);
+  drain(sink);
+  // Where three labels meet the rules guarantee no manifold boundary; sample more of ∂Ω there
+  // and refine again. Points closer than a quarter of Δ to a sampled one are allowed only when
+  // nothing else is left, down to Δ/16: the work stays bounded.
+  double min_spacing = 0.25 * params_.delta;
+  for (int round = 0; round < kRepairRounds && min_spacing >= params_.delta / 16;) {
+    const std::size_t inserted = repair_pinches(min_spacing);
+    if (inserted == 0) {
+      if (count_pinches(nullptr) == 0) break;
+      min_spacing /= 2;
+      continue;
     }
-    const auto result = tri_.insert(point, kind, k.cell);
-    if (!result.inserted) continue;
-    if (kind == VertexKind::feature) features_.add(point);
-    ++progress_.insertions[rule == kSizing ? kR3 : rule];
-    std::vector<CellId> created;
-    if (rule == kR5) remove_free_vertices_near(result.vertex, created);
-    // The new pentatopes: the star of the new vertex, and what filled removed vertices' holes.
-    tri_.incident_cells(result.vertex, star);
-    for (CellId c : star) enqueue(c);
-    for (CellId c : created)
-      if (tri_.store().is_live(c)) enqueue(c);
+    ++round;
+    drain(sink);
   }
 
   report(sink, Phase::extracting, true);
   RefineResult result;
   result.mesh = extract(result.warnings);
+  if (const std::size_t pinches = count_pinches(nullptr)) {
+    std::ostringstream s;
+    s << pinches << " boundary triangles are pinched (in four or more boundary tetrahedra of one "
+      << "label) where labels meet; a smaller delta resolves more of them";
+    result.warnings.push_back(s.str());
+  }
   result.stats = mesh::compute_stats(result.mesh);
   for (int r = 0; r < 5; ++r) {
     result.stats.insertions[r] = progress_.insertions[r];
@@ -358,10 +418,8 @@ mesh::Mesh4 Refiner::extract(std::vector<std::string>& warnings) const {
   std::vector<std::uint32_t> vertex_index(st.vertex_slots(), 0xFFFFFFFFu);
   mesh::Mesh4 mesh;
   for (CellId c = 0; c < st.cell_slots(); ++c) {
-    if (!st.is_live(c) || st.is_infinite(c)) continue;
-    const Point4 center = delaunay::circumcenter(simplex_of(tri_, c));
-    if (!std::isfinite(center[0])) continue;
-    label[c] = oracle_.label_at(center);
+    if (!st.is_live(c) || st.is_infinite(c) || !info_[c].finite) continue;
+    label[c] = info_[c].label;
     if (label[c] == 0) continue;
     index[c] = static_cast<std::uint32_t>(mesh.pentatopes.size());
     std::array<std::uint32_t, 5> p;

@@ -1,11 +1,11 @@
 // Sequential Delaunay refinement of a 4D image (Foteinos & Chrisochoides; ALGORITHM.md,
 // "Refinement").
 //
-// Status: first version. All five rules (R1 to R5, R3 first by default) and an interior sizing
-// bound; picking regions for R4 and R5 measure the cavity of each trial point before choosing.
-// Tested on the hypersphere (boundary vertices on ∂Ω, closed manifold boundary, radius-edge and
-// sliver bounds) and the ventricle (closed region boundaries; pinched triangles remain where
-// three labels meet). Not yet checked on every phantom and on real data, and not yet fast.
+// All five rules (R1 to R5, R3 first by default) and an interior sizing bound; picking regions
+// for R4 and R5 measure the cavity of each trial point before choosing. Each pentatope's
+// circumball and label are computed once, when it is made (CellInfo). Where labels meet, the
+// paper's guarantee (for one label) does not hold: a bounded pinch repair (refiner_junctions.cpp)
+// samples ∂Ω where a region's boundary is not a manifold. Not yet fast enough (issue 5's target).
 #pragma once
 
 #include <chrono>
@@ -47,33 +47,61 @@ class Refiner {
     mesh4d::VertexId v[5];  // to recognize a reused cell id
   };
   enum Rule { kR1, kR2, kR3, kR4, kR5, kSizing, kNone };
+  // What every rule asks of a pentatope, computed once when it is created: its circumball and
+  // the label at its center (valid for every live finite cell; slots are reused, so it is
+  // recomputed for each new cell in admit()).
+  struct CellInfo {
+    Point4 center;
+    double radius = 0;
+    domain::Label label = 0;
+    bool finite = false;  // false for infinite or flat pentatopes
+  };
 
   void insert_box();
+  // New pentatopes: their info first (neighbors' labels are read by the R5 check), then queued.
+  void admit(const std::vector<delaunay::CellId>& cells);
+  void update_info(delaunay::CellId c);
   void enqueue(delaunay::CellId c);
+  bool has_restricted_non_feature_facet(delaunay::CellId c) const;
   Rule quick_rule(delaunay::CellId c) const;  // a cheap priority guess, confirmed when popped
   bool still_valid(const Candidate& k) const;
   // Decides what to do with a live pentatope: the rule that applies and the point to insert.
   Rule classify(delaunay::CellId c, Point4* point, delaunay::VertexKind* kind);
   Point4 pick_from_region(delaunay::CellId c, const Point4& center, double radius);
-  bool find_restricted_facet(delaunay::CellId c, const Point4& center, Point4* surface_center,
+  bool find_restricted_facet(delaunay::CellId c, Point4* surface_center,
                              double* surface_radius) const;
   Point4 pick_on_surface(delaunay::CellId c, const Point4& z, double radius);
   double worst_new_quality(const Point4& p, delaunay::CellId hint);
   void remove_free_vertices_near(mesh4d::VertexId v, std::vector<delaunay::CellId>& created);
   bool ball_meets_surface(const Point4& center, double radius, Point4* cfp) const;
   Point4 clamp_to_box(const Point4& p) const;
+  // Applies the rules until none does.
+  void drain(ProgressSink* sink);
+  // Inserts surface points where a label's region boundary is pinched (a triangle in four or
+  // more of its boundary tetrahedra, seen where three labels meet), none closer than
+  // `min_spacing` to a feature vertex; returns how many.
+  std::size_t repair_pinches(double min_spacing);
+  struct PinchedTriangle {
+    std::vector<std::pair<delaunay::CellId, int>> facets;  // (pentatope, facet index)
+  };
+  std::size_t count_pinches(std::vector<PinchedTriangle>* pinched) const;
+  bool insert_and_admit(const Point4& p, delaunay::VertexKind kind, delaunay::CellId hint,
+                        int rule);
   void report(ProgressSink* sink, Phase phase, bool force);
   mesh::Mesh4 extract(std::vector<std::string>& warnings) const;
 
   const domain::SurfaceOracle& oracle_;
   RefineParams params_;
   delaunay::Triangulation tri_;
+  std::vector<CellInfo> info_;  // by cell id
   std::array<Point4, 2> box_;
   std::array<std::vector<Candidate>, kNone> queues_;  // one stack per rule
   FeatureIndex features_;
   std::mt19937_64 rng_;       // of the picking regions, seeded by RefineParams::seed
   delaunay::Cavity scratch_;  // trial cavities of the picking regions
   Progress progress_;
+  std::uint64_t operations_ = 0;
+  std::vector<delaunay::CellId> fresh_;  // scratch: the pentatopes an operation made
   std::chrono::steady_clock::time_point start_, last_report_;
 };
 
