@@ -1,6 +1,7 @@
 #include "connection.h"
 
 #include <CLI/CLI.hpp>
+#include <fstream>
 #include <iostream>
 
 #include "exit_codes.h"
@@ -11,13 +12,28 @@ void add_global_options(CLI::App& app, GlobalOptions& options) {
   app.add_option("--server", options.server, "server address host:port")
       ->envname("MESH4D_SERVER")
       ->capture_default_str();
+  app.add_option("--token", options.token, "access token of the server")->envname("MESH4D_TOKEN");
+  app.add_option("--tls-ca", options.tls_ca, "PEM root certificates: connect with TLS")
+      ->envname("MESH4D_TLS_CA");
   app.add_option("--timeout", options.timeout_seconds, "seconds to wait for each call")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
 }
 
 std::shared_ptr<grpc::Channel> open_channel(const GlobalOptions& options) {
-  return grpc::CreateChannel(options.server, grpc::InsecureChannelCredentials());
+  grpc::ChannelArguments args;
+  args.SetMaxReceiveMessageSize(64 << 20);
+  if (options.tls_ca.empty())
+    return grpc::CreateCustomChannel(options.server, grpc::InsecureChannelCredentials(), args);
+  std::ifstream in(options.tls_ca);
+  grpc::SslCredentialsOptions ssl;
+  ssl.pem_root_certs.assign(std::istreambuf_iterator<char>(in), {});
+  return grpc::CreateCustomChannel(options.server, grpc::SslCredentials(ssl), args);
+}
+
+void prepare(grpc::ClientContext& context, const GlobalOptions& options, bool deadline) {
+  if (!options.token.empty()) context.AddMetadata("authorization", "Bearer " + options.token);
+  if (deadline) context.set_deadline(call_deadline(options));
 }
 
 std::chrono::system_clock::time_point call_deadline(const GlobalOptions& options) {

@@ -5,6 +5,7 @@
 #include "connection.h"
 #include "exit_codes.h"
 #include "health_command.h"
+#include "job_commands.h"
 
 int main(int argc, char** argv) {
   using namespace mesh4d::client;
@@ -14,6 +15,10 @@ int main(int argc, char** argv) {
   add_global_options(app, global);
   int exit_code = kExitOk;
   setup_health_command(app, global, &exit_code);
+  setup_submit_command(app, global, &exit_code);
+  setup_watch_command(app, global, &exit_code);
+  setup_fetch_command(app, global, &exit_code);
+  setup_job_commands(app, global, &exit_code);
 
   try {
     app.parse(argc, argv);

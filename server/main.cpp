@@ -1,6 +1,6 @@
-// mesh4d-server: starts the gRPC server (health and reflection services) and runs until SIGINT or
-// SIGTERM. The meshing service, durable job queue and metrics are registered here as they land
-// (issue 7); until then a MeshService call is answered UNIMPLEMENTED by gRPC itself.
+// mesh4d-server: the meshing service (mesh4d.v1.MeshService over a durable job queue), gRPC
+// health and reflection; runs until SIGINT or SIGTERM. Jobs running at shutdown stay RUNNING on
+// disk and run again at the next start.
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
@@ -12,6 +12,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include "job_manager.h"
+#include "job_store.h"
+#include "mesh_service.h"
 #include "server_options.h"
 
 namespace {
@@ -35,12 +38,46 @@ bool write_port_file(const std::string& path, int port) {
   return !ec;
 }
 
+// The --config file is read before the other options are registered, so that its values become
+// their defaults (flags and environment variables then override them).
+std::string config_file_argument(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--config" && i + 1 < argc) return argv[i + 1];
+    if (arg.rfind("--config=", 0) == 0) return arg.substr(9);
+  }
+  const char* env = std::getenv("MESH4D_CONFIG");
+  return env ? env : "";
+}
+
+std::shared_ptr<grpc::ServerCredentials> credentials(const mesh4d::server::ServerOptions& o) {
+  if (o.tls_cert.empty() && o.tls_key.empty()) return grpc::InsecureServerCredentials();
+  if (o.tls_cert.empty() || o.tls_key.empty())
+    throw std::runtime_error("TLS needs both --tls-cert and --tls-key");
+  auto read = [](const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error("cannot read " + path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  grpc::SslServerCredentialsOptions ssl;
+  ssl.pem_key_cert_pairs.push_back({read(o.tls_key), read(o.tls_cert)});
+  return grpc::SslServerCredentials(ssl);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  mesh4d::server::ServerOptions options;
+  using namespace mesh4d::server;
+  ServerOptions options;
   CLI::App app{"mesh4d-server: meshes 4D label images into pentatope meshes, over gRPC"};
-  mesh4d::server::add_server_options(app, options);
+  try {
+    const std::string config = config_file_argument(argc, argv);
+    if (!config.empty()) load_config_file(config, options);
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 2;
+  }
+  add_server_options(app, options);
   CLI11_PARSE(app, argc, argv);
 
   // Block the stop signals before gRPC starts its threads, so only sigwait below receives them.
@@ -50,17 +87,44 @@ int main(int argc, char** argv) {
   sigaddset(&stop_signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
+  std::unique_ptr<JobStore> store;
+  try {
+    store = std::make_unique<JobStore>(options.data_dir);
+  } catch (const std::exception& e) {
+    spdlog::error("cannot use the data directory {}: {}", options.data_dir, e.what());
+    return 2;
+  }
+  ManagerConfig config;
+  config.running_jobs = options.running_jobs;
+  config.threads_per_job =
+      options.threads_per_job ? options.threads_per_job : std::thread::hardware_concurrency();
+  config.max_queued_jobs = options.max_queued_jobs;
+  config.max_image_bytes = options.max_image_mb << 20;
+  config.max_vertex_budget = options.max_vertex_budget;
+  config.retention = std::chrono::seconds(static_cast<long long>(options.retention_hours * 3600));
+  JobManager jobs(*store, config);
+  for (const auto& problem : jobs.start()) spdlog::warn("{}", problem);
+  MeshService service(jobs, options.token);
+
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   int port = 0;
-  builder.AddListeningPort(options.listen, grpc::InsecureServerCredentials(), &port);
+  try {
+    builder.AddListeningPort(options.listen, credentials(options), &port);
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 2;
+  }
+  builder.RegisterService(&service);
+  builder.SetMaxReceiveMessageSize(64 << 20);
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   if (!server || port == 0) {
     spdlog::error("cannot listen on {} (address in use or invalid?)", options.listen);
     return 2;
   }
-  spdlog::info("mesh4d-server listening on {}", bound_address(options.listen, port));
+  spdlog::info("mesh4d-server listening on {}, data in {}", bound_address(options.listen, port),
+               options.data_dir);
   if (!options.port_file.empty() && !write_port_file(options.port_file, port)) {
     spdlog::error("cannot write port file {}", options.port_file);
     server->Shutdown();

@@ -1,0 +1,74 @@
+#include "job_printing.h"
+
+#include <cstdio>
+#include <ostream>
+#include <string>
+
+namespace mesh4d::client {
+namespace {
+
+std::string state_name(v1::JobState s) {
+  std::string name = v1::JobState_Name(s);
+  return name.substr(name.find_last_of('_') + 1);
+}
+
+std::string phase_name(v1::Phase p) {
+  std::string name = v1::Phase_Name(p);
+  return name.substr(6);  // after "PHASE_"
+}
+
+}  // namespace
+
+void print_job_line(std::ostream& out, const v1::Job& job) {
+  out << job.id() << "  " << state_name(job.state());
+  if (!job.name().empty()) out << "  " << job.name();
+  if (job.state() == v1::JOB_STATE_QUEUED) out << "  position " << job.queue_position();
+  if (job.has_progress() && job.state() == v1::JOB_STATE_RUNNING)
+    out << "  " << phase_name(job.progress().phase()) << " " << job.progress().vertices()
+        << " vertices";
+  if (job.state() == v1::JOB_STATE_SUCCEEDED)
+    out << "  " << job.stats().pentatopes() << " pentatopes";
+  if (!job.error().empty()) out << "  " << job.error();
+  out << "\n";
+}
+
+void print_stats(std::ostream& out, const v1::MeshStats& s) {
+  char line[256];
+  auto row = [&](const char* name, const v1::Distribution& d) {
+    std::snprintf(line, sizeof line, "  %-18s min %.4f  max %.4f  mean %.4f  std %.4f\n", name,
+                  d.min(), d.max(), d.mean(), d.stddev());
+    out << line;
+  };
+  std::snprintf(line, sizeof line,
+                "  vertices %llu, pentatopes %llu, boundary tetrahedra %llu, shortest edge %.4g\n",
+                (unsigned long long)s.vertices(), (unsigned long long)s.pentatopes(),
+                (unsigned long long)s.boundary_tetrahedra(), s.shortest_edge());
+  out << line;
+  row("radius-edge ratio", s.radius_edge_ratio());
+  row("normalized volume", s.normalized_volume());
+  const auto& i = s.insertions();
+  std::snprintf(line, sizeof line,
+                "  insertions R1..R5 %llu %llu %llu %llu %llu, removals %llu, %.2f s\n",
+                (unsigned long long)i.r1(), (unsigned long long)i.r2(), (unsigned long long)i.r3(),
+                (unsigned long long)i.r4(), (unsigned long long)i.r5(),
+                (unsigned long long)s.removals().r5(), s.elapsed_seconds());
+  out << line;
+}
+
+void print_progress(std::ostream& out, const v1::Progress& p, bool live) {
+  char line[256];
+  const auto& i = p.insertions();
+  std::snprintf(line, sizeof line,
+                "%-10s %8llu vertices %9llu pentatopes  R1 %llu R2 %llu R3 %llu R4 %llu R5 %llu"
+                "  rollbacks %llu  %.1f s",
+                phase_name(p.phase()).c_str(), (unsigned long long)p.vertices(),
+                (unsigned long long)p.pentatopes(), (unsigned long long)i.r1(),
+                (unsigned long long)i.r2(), (unsigned long long)i.r3(), (unsigned long long)i.r4(),
+                (unsigned long long)i.r5(), (unsigned long long)p.rollbacks(), p.elapsed_seconds());
+  if (live)
+    out << "\r" << line << "\x1b[K" << std::flush;
+  else
+    out << line << "\n";
+}
+
+}  // namespace mesh4d::client

@@ -1,0 +1,189 @@
+// submit: reads a 4D label image (or a series of 3D frames) with the engine's ITK reader,
+// uploads it as raw labels with its header and SHA-256, prints the job id; with --wait, follows
+// the job and downloads the mesh.
+#include <CLI/CLI.hpp>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <random>
+
+#include "connection.h"
+#include "domain/image_io.h"
+#include "exit_codes.h"
+#include "job_calls.h"
+#include "job_commands.h"
+#include "job_printing.h"
+#include "mesh/mesh_io.h"
+
+namespace mesh4d::client {
+namespace {
+
+constexpr std::size_t kChunk = 1 << 20;
+
+struct SubmitOptions {
+  std::string image;
+  std::vector<std::string> frames;
+  std::string params_file;
+  double delta = 0, rho = 0, time_scale = 1;
+  unsigned threads = 0;
+  std::string name, request_id, out;
+  bool wait = false;
+};
+
+// The raw upload: one byte per voxel when every label fits, else two (little-endian).
+std::string raw_labels(const domain::LabelImage4& image, v1::LabelType* type) {
+  const auto labels = image.labels();
+  const bool wide = !labels.empty() && labels.back() > 255;
+  *type = wide ? v1::LABEL_TYPE_UINT16 : v1::LABEL_TYPE_UINT8;
+  std::string raw(image.voxel_count() * (wide ? 2 : 1), '\0');
+  for (std::size_t i = 0; i < image.voxel_count(); ++i) {
+    const auto l = image.at(i);
+    if (wide) {
+      raw[2 * i] = static_cast<char>(l & 0xFF);
+      raw[2 * i + 1] = static_cast<char>(l >> 8);
+    } else {
+      raw[i] = static_cast<char>(l);
+    }
+  }
+  return raw;
+}
+
+// --params file (JSON keys as the RefineParams fields), then the flags on top.
+void fill_params(const SubmitOptions& o, v1::RefineParams* p) {
+  if (!o.params_file.empty()) {
+    std::ifstream in(o.params_file);
+    if (!in) throw std::runtime_error("cannot read " + o.params_file);
+    const auto j = nlohmann::json::parse(in);
+    for (const auto& [key, value] : j.items()) {
+      if (key == "delta")
+        p->set_delta(value.get<double>());
+      else if (key == "radius_edge_bound")
+        p->set_radius_edge_bound(value.get<double>());
+      else if (key == "picking_ratio")
+        p->set_picking_ratio(value.get<double>());
+      else if (key == "picking_trials")
+        p->set_picking_trials(value.get<unsigned>());
+      else if (key == "sliver_bound")
+        p->set_sliver_bound(value.get<double>());
+      else if (key == "max_interior_radius")
+        p->set_max_interior_radius(value.get<double>());
+      else if (key == "seed")
+        p->set_seed(value.get<std::uint64_t>());
+      else if (key == "vertex_budget")
+        p->set_vertex_budget(value.get<std::uint64_t>());
+      else if (key == "threads")
+        p->set_threads(value.get<unsigned>());
+      else if (key == "rule_order")
+        p->set_rule_order(value.get<std::string>() == "paper" ? v1::RULE_ORDER_PAPER
+                                                              : v1::RULE_ORDER_R3_FIRST);
+      else
+        throw std::runtime_error(o.params_file + ": unknown parameter '" + key + "'");
+    }
+  }
+  if (o.delta) p->set_delta(o.delta);
+  if (o.rho) p->set_radius_edge_bound(o.rho);
+  if (o.threads) p->set_threads(o.threads);
+}
+
+std::string random_request_id() {
+  std::mt19937_64 rng{std::random_device{}()};
+  char id[40];
+  std::snprintf(id, sizeof id, "cli-%016llx%016llx", (unsigned long long)rng(),
+                (unsigned long long)rng());
+  return id;
+}
+
+int run_submit(const GlobalOptions& global, const SubmitOptions& o) {
+  v1::JobSpec spec;
+  std::string raw;
+  try {
+    const domain::LabelImage4 image = o.frames.empty()
+                                          ? domain::read_label_image(o.image)
+                                          : domain::read_label_frames(o.frames, o.time_scale);
+    v1::LabelType type;
+    raw = raw_labels(image, &type);
+    auto* h = spec.mutable_image();
+    const auto& d = image.dims();
+    h->mutable_dims()->set_x(d[0]), h->mutable_dims()->set_y(d[1]);
+    h->mutable_dims()->set_z(d[2]), h->mutable_dims()->set_t(d[3]);
+    const auto& s = image.spacing();
+    h->mutable_spacing()->set_x(s[0]), h->mutable_spacing()->set_y(s[1]);
+    h->mutable_spacing()->set_z(s[2]);
+    h->mutable_spacing()->set_t(o.frames.empty() && o.time_scale != 1 ? o.time_scale : s[3]);
+    const auto& org = image.origin();
+    h->mutable_origin()->set_x(org[0]), h->mutable_origin()->set_y(org[1]);
+    h->mutable_origin()->set_z(org[2]), h->mutable_origin()->set_t(org[3]);
+    h->set_label_type(type);
+    h->set_byte_size(raw.size());
+    const auto digest = mesh::sha256(reinterpret_cast<const std::uint8_t*>(raw.data()), raw.size());
+    h->set_sha256(std::string(reinterpret_cast<const char*>(digest.data()), digest.size()));
+    fill_params(o, spec.mutable_params());
+  } catch (const std::exception& e) {
+    std::cerr << "mesh4d-client: submit: " << e.what() << "\n";
+    return kExitLocal;
+  }
+  spec.set_name(o.name.empty() ? (o.frames.empty() ? o.image : o.frames.front()) : o.name);
+  // A request id makes a retried upload land on the same job.
+  spec.set_request_id(o.request_id.empty() ? random_request_id() : o.request_id);
+
+  auto stub = v1::MeshService::NewStub(open_channel(global));
+  grpc::ClientContext context;
+  prepare(context, global, false);
+  v1::SubmitJobResponse response;
+  auto writer = stub->SubmitJob(&context, &response);
+  v1::SubmitJobRequest message;
+  *message.mutable_spec() = spec;
+  bool sent = writer->Write(message);
+  for (std::size_t at = 0; sent && at < raw.size(); at += kChunk) {
+    message.Clear();
+    message.set_chunk(raw.substr(at, kChunk));
+    sent = writer->Write(message);
+  }
+  writer->WritesDone();
+  const grpc::Status status = writer->Finish();
+  if (!status.ok()) return report_rpc_error("submit", status, global);
+  std::cout << response.job().id() << "\n" << std::flush;
+  for (const auto& w : response.job().warnings()) std::cerr << "warning: " << w << "\n";
+  if (!o.wait) return kExitOk;
+
+  v1::Job final;
+  const int watched = watch_job(global, response.job().id(), &final);
+  if (watched != kExitOk) return watched;
+  print_stats(std::cerr, final.stats());
+  if (o.out.empty()) return kExitOk;
+  return fetch_result(global, response.job().id(), o.out);
+}
+
+}  // namespace
+
+void setup_submit_command(CLI::App& app, const GlobalOptions& global, int* exit_code) {
+  auto o = std::make_shared<SubmitOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "submit", "upload a 4D label image (NIfTI, MetaImage, NRRD) and print the job id");
+  cmd->add_option("IMAGE", o->image, "a 4D label image")->check(CLI::ExistingFile);
+  cmd->add_option("--frames", o->frames, "3D label files, one per frame, instead of IMAGE")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--params", o->params_file, "JSON file of refinement parameters")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--delta", o->delta, "surface sampling distance Δ (physical units)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--rho", o->rho, "radius-edge bound ρ̄")->check(CLI::PositiveNumber);
+  cmd->add_option("--threads", o->threads, "worker threads for this job (capped by the server)");
+  cmd->add_option("--time-scale", o->time_scale,
+                  "physical units per frame along t (for --frames; overrides a 4D file's)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--name", o->name, "a name shown in listings (default: the file)");
+  cmd->add_option("--request-id", o->request_id, "idempotency key (default: random)");
+  cmd->add_flag("--wait", o->wait, "follow the job to its end (progress on stderr)");
+  cmd->add_option("--out", o->out, "with --wait: write the mesh (.m4d) here");
+  cmd->callback([&global, o, exit_code, cmd] {
+    if (o->image.empty() == o->frames.empty())
+      throw CLI::ValidationError("submit", "give either IMAGE or --frames, not both or neither");
+    if (!o->out.empty() && !o->wait)
+      throw CLI::ValidationError("--out", "--out needs --wait (or use 'fetch ID --out FILE')");
+    (void)cmd;
+    *exit_code = run_submit(global, *o);
+  });
+}
+
+}  // namespace mesh4d::client

@@ -1,0 +1,425 @@
+#include "job_manager.h"
+
+#include <google/protobuf/util/time_util.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <random>
+#include <sstream>
+
+#include "job_runner.h"
+#include "proto_convert.h"
+#include "refine/refiner.h"
+#include "service_error.h"
+#include "upload_check.h"
+
+namespace mesh4d::server {
+namespace {
+
+using google::protobuf::util::TimeUtil;
+
+constexpr std::size_t kEventLog = 512;  // events kept per job for watchers that fall behind
+
+bool terminal(v1::JobState s) {
+  return s == v1::JOB_STATE_SUCCEEDED || s == v1::JOB_STATE_FAILED || s == v1::JOB_STATE_CANCELLED;
+}
+
+std::string new_job_id() {
+  static std::mutex mu;
+  static std::mt19937_64 rng{std::random_device{}()};
+  std::lock_guard lock(mu);
+  char id[20];
+  std::snprintf(id, sizeof id, "j%016llx", static_cast<unsigned long long>(rng()));
+  return id;
+}
+
+// Listing order: creation time, then id; the page token is the last key returned.
+std::string list_key(const v1::Job& job) {
+  char key[64];
+  std::snprintf(key, sizeof key, "%020lld.%09d/", static_cast<long long>(job.created().seconds()),
+                job.created().nanos());
+  return key + job.id();
+}
+
+[[noreturn]] void not_found(const std::string& id) {
+  throw ServiceError(ErrorCode::not_found, "no job with id '" + id + "'");
+}
+
+}  // namespace
+
+class JobManager::Sink : public refine::ProgressSink {
+ public:
+  Sink(JobManager& manager, Entry& entry) : manager_(manager), entry_(entry) {}
+  void on_progress(const refine::Progress& p) override {
+    std::lock_guard lock(manager_.mu_);
+    *entry_.job.mutable_progress() = to_proto(p);
+    v1::JobEvent event;
+    *event.mutable_progress() = entry_.job.progress();
+    manager_.publish(entry_, std::move(event));
+  }
+  bool should_abort() override { return entry_.cancel || manager_.stopping_; }
+
+ private:
+  JobManager& manager_;
+  Entry& entry_;
+};
+
+JobManager::JobManager(JobStore& store, ManagerConfig config, JobObserver* observer)
+    : store_(store), config_(config), observer_(observer) {}
+
+JobManager::~JobManager() {
+  {
+    std::lock_guard lock(mu_);
+    stopping_ = true;
+  }
+  changed_.notify_all();
+  for (auto& t : runners_) t.join();
+}
+
+std::vector<std::string> JobManager::start() {
+  std::vector<std::string> problems;
+  auto jobs = store_.load_all(&problems);
+  std::sort(jobs.begin(), jobs.end(),
+            [](const v1::Job& a, const v1::Job& b) { return list_key(a) < list_key(b); });
+  {
+    std::lock_guard lock(mu_);
+    for (auto& job : jobs) {
+      auto e = std::make_unique<Entry>();
+      if (!terminal(job.state())) {
+        // Queued, or running when the server stopped: runs again from the start.
+        if (job.state() != v1::JOB_STATE_QUEUED) {
+          job.set_state(v1::JOB_STATE_QUEUED);
+          job.clear_progress();
+          job.clear_started();
+          store_.save(job);
+        }
+        queue_.push_back(job.id());
+      }
+      if (!job.request_id().empty()) by_request_id_[job.request_id()] = job.id();
+      e->job = std::move(job);
+      jobs_[e->job.id()] = std::move(e);
+    }
+  }
+  for (unsigned i = 0; i < std::max(1u, config_.running_jobs); ++i)
+    runners_.emplace_back([this] { runner_loop(); });
+  return problems;
+}
+
+JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string data) {
+  if (!spec.has_image()) throw ServiceError(ErrorCode::invalid_argument, "spec.image is missing");
+  const std::uint64_t bytes = check_header(spec.image());
+  if (bytes > config_.max_image_bytes) {
+    std::ostringstream m;
+    m << "the image has " << bytes << " bytes; this server accepts at most "
+      << config_.max_image_bytes;
+    throw ServiceError(ErrorCode::resource_exhausted, m.str());
+  }
+  refine::RefineParams params = to_engine(spec.params());
+  try {
+    refine::validate(params);
+  } catch (const refine::ParamError& e) {
+    throw ServiceError(ErrorCode::invalid_argument, std::string("params: ") + e.what());
+  }
+  if (params.vertex_budget > config_.max_vertex_budget) {
+    std::ostringstream m;
+    m << "params.vertex_budget " << params.vertex_budget << " is over this server's limit of "
+      << config_.max_vertex_budget;
+    throw ServiceError(ErrorCode::resource_exhausted, m.str());
+  }
+  const unsigned threads = spec.params().threads() == 0
+                               ? config_.threads_per_job
+                               : std::min(spec.params().threads(), config_.threads_per_job);
+  auto duplicate = [&]() -> const Entry* {
+    if (spec.request_id().empty()) return nullptr;
+    const auto it = by_request_id_.find(spec.request_id());
+    if (it == by_request_id_.end()) return nullptr;
+    const Entry& e = find(it->second);
+    if (e.job.image().sha256() != spec.image().sha256())
+      throw ServiceError(ErrorCode::invalid_argument,
+                         "request_id '" + spec.request_id() +
+                             "' was already used for another image (job " + e.job.id() + ")");
+    return &e;
+  };
+  {
+    std::lock_guard lock(mu_);
+    if (const Entry* e = duplicate()) return {view(*e), true};
+  }
+  std::vector<std::string> warnings;
+  decode_upload(spec.image(), data, &warnings);  // size, checksum and labels; throws
+
+  std::lock_guard lock(mu_);
+  if (const Entry* e = duplicate()) return {view(*e), true};  // a concurrent retry won
+  if (queue_.size() >= config_.max_queued_jobs) {
+    std::ostringstream m;
+    m << "the queue is full (" << queue_.size() << " jobs waiting); retry later";
+    throw ServiceError(ErrorCode::resource_exhausted, m.str());
+  }
+  auto e = std::make_unique<Entry>();
+  v1::Job& job = e->job;
+  job.set_id(new_job_id());
+  job.set_state(v1::JOB_STATE_QUEUED);
+  job.set_name(spec.name());
+  job.set_request_id(spec.request_id());
+  *job.mutable_image() = spec.image();
+  *job.mutable_params() = to_proto(params, threads);
+  *job.mutable_created() = TimeUtil::GetCurrentTime();
+  for (auto& w : warnings) job.add_warnings(w);
+  try {
+    store_.create(job, data);
+  } catch (const std::exception& ex) {
+    store_.remove(job.id());
+    throw ServiceError(ErrorCode::internal, std::string("cannot store the job: ") + ex.what());
+  }
+  if (observer_) observer_->on_bytes_received(data.size());
+  const std::string id = job.id();
+  if (!job.request_id().empty()) by_request_id_[job.request_id()] = id;
+  queue_.push_back(id);
+  Entry& entry = *e;
+  jobs_[id] = std::move(e);
+  v1::JobEvent event;
+  event.set_state(v1::JOB_STATE_QUEUED);
+  publish(entry, std::move(event));
+  if (observer_) observer_->on_state(entry.job, v1::JOB_STATE_UNSPECIFIED);
+  spdlog::info("job {} queued ({} bytes, delta {})", id, data.size(), params.delta);
+  return {view(entry), false};
+}
+
+JobManager::Entry& JobManager::find(const std::string& id) const {
+  const auto it = jobs_.find(id);
+  if (it == jobs_.end()) not_found(id);
+  return *it->second;
+}
+
+v1::Job JobManager::view(const Entry& e) const {
+  v1::Job job = e.job;
+  if (job.state() == v1::JOB_STATE_QUEUED) {
+    const auto it = std::find(queue_.begin(), queue_.end(), job.id());
+    job.set_queue_position(static_cast<std::uint32_t>(it - queue_.begin()));
+  }
+  return job;
+}
+
+void JobManager::publish(Entry& e, v1::JobEvent event) {
+  event.set_sequence(++e.last_sequence);
+  *event.mutable_time() = TimeUtil::GetCurrentTime();
+  e.events.push_back(std::move(event));
+  if (e.events.size() > kEventLog) e.events.pop_front();
+  changed_.notify_all();
+}
+
+void JobManager::set_state(Entry& e, v1::JobState state) {
+  const v1::JobState previous = e.job.state();
+  e.job.set_state(state);
+  if (state == v1::JOB_STATE_RUNNING) *e.job.mutable_started() = TimeUtil::GetCurrentTime();
+  if (terminal(state)) *e.job.mutable_finished() = TimeUtil::GetCurrentTime();
+  try {
+    store_.save(e.job);
+  } catch (const std::exception& ex) {
+    spdlog::error("job {}: cannot store its state: {}", e.job.id(), ex.what());
+  }
+  v1::JobEvent event;
+  event.set_state(state);
+  publish(e, std::move(event));
+  if (observer_) observer_->on_state(e.job, previous);
+}
+
+v1::Job JobManager::get(const std::string& id) const {
+  std::lock_guard lock(mu_);
+  return view(find(id));
+}
+
+v1::Job JobManager::cancel(const std::string& id) {
+  std::lock_guard lock(mu_);
+  Entry& e = find(id);
+  if (e.job.state() == v1::JOB_STATE_QUEUED) {
+    queue_.erase(std::find(queue_.begin(), queue_.end(), id));
+    e.job.set_error("cancelled by request while queued");
+    set_state(e, v1::JOB_STATE_CANCELLED);
+    spdlog::info("job {} cancelled while queued", id);
+  } else if (e.job.state() == v1::JOB_STATE_RUNNING) {
+    e.cancel = true;  // the runner stops at its next check and records CANCELLED
+  }
+  return view(e);
+}
+
+void JobManager::remove(const std::string& id) {
+  std::lock_guard lock(mu_);
+  Entry& e = find(id);
+  if (e.job.state() == v1::JOB_STATE_RUNNING)
+    throw ServiceError(ErrorCode::failed_precondition,
+                       "job " + id + " is running: cancel it, then delete it once it has stopped");
+  if (e.job.state() == v1::JOB_STATE_QUEUED)
+    queue_.erase(std::find(queue_.begin(), queue_.end(), id));
+  if (!e.job.request_id().empty()) by_request_id_.erase(e.job.request_id());
+  store_.remove(id);
+  jobs_.erase(id);
+  changed_.notify_all();
+  spdlog::info("job {} deleted", id);
+}
+
+JobManager::Page JobManager::list(v1::JobState state, std::uint32_t page_size,
+                                  const std::string& token) const {
+  constexpr std::uint32_t kDefaultPage = 50, kMaxPage = 1000;
+  if (!token.empty() && (token.size() < 32 || token[20] != '.' || token[30] != '/'))
+    throw ServiceError(ErrorCode::invalid_argument, "page_token is not one this server gave");
+  const std::uint32_t size = page_size == 0 ? kDefaultPage : std::min(page_size, kMaxPage);
+  std::lock_guard lock(mu_);
+  std::vector<std::pair<std::string, const Entry*>> matching;
+  for (const auto& [id, e] : jobs_)
+    if (state == v1::JOB_STATE_UNSPECIFIED || e->job.state() == state) {
+      std::string key = list_key(e->job);
+      if (key > token) matching.emplace_back(std::move(key), e.get());
+    }
+  std::sort(matching.begin(), matching.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  Page page;
+  for (std::size_t i = 0; i < matching.size() && i < size; ++i)
+    page.jobs.push_back(view(*matching[i].second));
+  if (matching.size() > size) page.next_token = matching[size - 1].first;
+  return page;
+}
+
+JobManager::Result JobManager::result(const std::string& id) const {
+  Result r;
+  {
+    std::lock_guard lock(mu_);
+    const Entry& e = find(id);
+    if (e.job.state() != v1::JOB_STATE_SUCCEEDED)
+      throw ServiceError(ErrorCode::failed_precondition,
+                         "job " + id + " is " + v1::JobState_Name(e.job.state()) +
+                             ": a result exists once it has SUCCEEDED");
+    r.job = view(e);
+  }
+  try {
+    r.mesh = store_.read_result(id);
+  } catch (const std::exception& ex) {
+    throw ServiceError(ErrorCode::internal, std::string("cannot read the result: ") + ex.what());
+  }
+  return r;
+}
+
+v1::JobEvent JobManager::snapshot(const std::string& id) const {
+  std::lock_guard lock(mu_);
+  const Entry& e = find(id);
+  v1::JobEvent event;
+  event.set_sequence(e.last_sequence);
+  *event.mutable_time() = TimeUtil::GetCurrentTime();
+  *event.mutable_snapshot() = view(e);
+  return event;
+}
+
+bool JobManager::wait(const std::string& id, std::uint64_t after,
+                      std::chrono::steady_clock::time_point deadline,
+                      std::vector<v1::JobEvent>* out) const {
+  std::unique_lock lock(mu_);
+  while (true) {
+    const auto it = jobs_.find(id);
+    if (it == jobs_.end()) return false;
+    const Entry& e = *it->second;
+    if (e.last_sequence > after) {
+      if (e.events.empty() || e.events.front().sequence() > after + 1) {
+        v1::JobEvent event;  // the log lost some: start over from a snapshot
+        event.set_sequence(e.last_sequence);
+        *event.mutable_time() = TimeUtil::GetCurrentTime();
+        *event.mutable_snapshot() = view(e);
+        out->push_back(std::move(event));
+      } else {
+        for (const auto& event : e.events)
+          if (event.sequence() > after) out->push_back(event);
+      }
+      return true;
+    }
+    if (changed_.wait_until(lock, deadline) == std::cv_status::timeout) return true;
+  }
+}
+
+std::map<v1::JobState, std::size_t> JobManager::count_by_state() const {
+  std::lock_guard lock(mu_);
+  std::map<v1::JobState, std::size_t> counts;
+  for (const auto& [id, e] : jobs_) ++counts[e->job.state()];
+  return counts;
+}
+
+void JobManager::sweep_expired() {
+  if (config_.retention.count() <= 0) return;
+  const auto now = TimeUtil::GetCurrentTime();
+  std::vector<std::string> expired;
+  for (const auto& [id, e] : jobs_)
+    if (terminal(e->job.state()) &&
+        TimeUtil::DurationToSeconds(now - e->job.finished()) > config_.retention.count())
+      expired.push_back(id);
+  for (const auto& id : expired) {
+    const Entry& e = *jobs_[id];
+    if (!e.job.request_id().empty()) by_request_id_.erase(e.job.request_id());
+    store_.remove(id);
+    jobs_.erase(id);
+    spdlog::info("job {} deleted: older than the retention", id);
+  }
+  if (!expired.empty()) changed_.notify_all();
+}
+
+void JobManager::runner_loop() {
+  std::unique_lock lock(mu_);
+  while (!stopping_) {
+    if (queue_.empty()) {
+      changed_.wait_for(lock, std::chrono::seconds(30));
+      sweep_expired();
+      continue;
+    }
+    const std::string id = queue_.front();
+    queue_.pop_front();
+    lock.unlock();
+    run(id);
+    lock.lock();
+  }
+}
+
+void JobManager::run(const std::string& id) {
+  Entry* entry;
+  v1::ImageHeader header;
+  refine::RefineParams params;
+  {
+    std::lock_guard lock(mu_);
+    entry = &find(id);
+    set_state(*entry, v1::JOB_STATE_RUNNING);
+    header = entry->job.image();
+    params = to_engine(entry->job.params());
+  }
+  spdlog::info("job {} running", id);
+  Sink sink(*this, *entry);
+  std::string error;
+  v1::JobState end = v1::JOB_STATE_FAILED;
+  try {
+    const std::string input = store_.read_input(id);
+    JobOutcome outcome = run_job(header, params, input, sink);
+    store_.save_result(id, outcome.mesh);
+    std::lock_guard lock(mu_);
+    *entry->job.mutable_stats() = to_proto(outcome.stats);
+    entry->job.clear_warnings();
+    for (auto& w : outcome.warnings) entry->job.add_warnings(w);
+    v1::JobEvent finished;
+    *finished.mutable_finished() = entry->job.stats();
+    publish(*entry, std::move(finished));
+    set_state(*entry, v1::JOB_STATE_SUCCEEDED);
+    spdlog::info("job {} succeeded: {} pentatopes in {:.2f} s", id, outcome.stats.pentatopes,
+                 outcome.stats.elapsed_seconds);
+    return;
+  } catch (const refine::Cancelled&) {
+    std::lock_guard lock(mu_);
+    if (stopping_ && !entry->cancel) {
+      spdlog::info("job {} interrupted by shutdown: it runs again at restart", id);
+      return;  // still RUNNING on disk
+    }
+    error = "cancelled by request while running";
+    end = v1::JOB_STATE_CANCELLED;
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  std::lock_guard lock(mu_);
+  entry->job.set_error(error);
+  set_state(*entry, end);
+  spdlog::info("job {} {}: {}", id, v1::JobState_Name(end), error);
+}
+
+}  // namespace mesh4d::server

@@ -1,0 +1,111 @@
+// The job service behind every transport: a bounded FIFO queue, a fixed number of runner
+// threads, the durable store, and each job's event log for watchers. One mutex guards it all;
+// the engine runs outside it.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "job_store.h"
+#include "mesh4d/v1/mesh4d.pb.h"
+
+namespace mesh4d::server {
+
+struct ManagerConfig {
+  unsigned running_jobs = 1;      // jobs refined at once
+  unsigned threads_per_job = 1;   // cap on RefineParams.threads
+  unsigned max_queued_jobs = 16;  // QUEUED jobs beyond this are refused
+  std::uint64_t max_image_bytes = 2ull << 30;
+  std::uint64_t max_vertex_budget = 20'000'000;
+  std::chrono::seconds retention{0};  // finished jobs are deleted after this; 0: kept
+};
+
+/// What the manager tells about jobs (the metrics and logs hook in here).
+struct JobObserver {
+  virtual ~JobObserver() = default;
+  virtual void on_state(const v1::Job& /*job*/, v1::JobState /*previous*/) {}
+  virtual void on_bytes_received(std::uint64_t /*bytes*/) {}
+};
+
+class JobManager {
+ public:
+  JobManager(JobStore& store, ManagerConfig config, JobObserver* observer = nullptr);
+  ~JobManager();  // stops the runners; running jobs stay RUNNING on disk and resume at restart
+
+  /// Loads the store: finished jobs are served again, queued and running ones re-queued.
+  /// Then starts the runners. Returns messages about records it could not read.
+  std::vector<std::string> start();
+
+  struct Submitted {
+    v1::Job job;
+    bool deduplicated = false;
+  };
+  /// Validates, stores durably, then queues. Throws ServiceError.
+  Submitted submit(const v1::JobSpec& spec, std::string data);
+
+  v1::Job get(const std::string& id) const;
+  v1::Job cancel(const std::string& id);
+  void remove(const std::string& id);
+
+  struct Page {
+    std::vector<v1::Job> jobs;
+    std::string next_token;
+  };
+  Page list(v1::JobState state, std::uint32_t page_size, const std::string& token) const;
+
+  struct Result {
+    v1::Job job;
+    std::string mesh;
+  };
+  Result result(const std::string& id) const;
+
+  /// Watching: `snapshot` gives the whole job as an event numbered with the job's latest event;
+  /// `wait` returns the events after `after` (waiting until `deadline` when there are none), or
+  /// a new snapshot when the log no longer holds them. False when the job is gone.
+  v1::JobEvent snapshot(const std::string& id) const;
+  bool wait(const std::string& id, std::uint64_t after,
+            std::chrono::steady_clock::time_point deadline, std::vector<v1::JobEvent>* out) const;
+
+  /// Counts by state, and the queue depth (for metrics).
+  std::map<v1::JobState, std::size_t> count_by_state() const;
+
+ private:
+  struct Entry {
+    v1::Job job;
+    std::deque<v1::JobEvent> events;
+    std::uint64_t last_sequence = 0;
+    std::atomic<bool> cancel{false};
+  };
+  class Sink;
+
+  Entry& find(const std::string& id) const;      // throws not_found; with mu_ held
+  void publish(Entry& e, v1::JobEvent event);    // with mu_ held
+  void set_state(Entry& e, v1::JobState state);  // with mu_ held: persists, publishes
+  v1::Job view(const Entry& e) const;            // with queue_position filled in
+  void runner_loop();
+  void run(const std::string& id);
+  void sweep_expired();  // with mu_ held
+
+  JobStore& store_;
+  ManagerConfig config_;
+  JobObserver* observer_;
+  mutable std::mutex mu_;
+  mutable std::condition_variable changed_;  // any event, queue change or stop
+  std::map<std::string, std::unique_ptr<Entry>> jobs_;
+  std::map<std::string, std::string> by_request_id_;
+  std::deque<std::string> queue_;
+  std::atomic<bool> stopping_{false};
+  std::vector<std::thread> runners_;
+};
+
+}  // namespace mesh4d::server

@@ -1,0 +1,28 @@
+// Runs one job through the engine: decode and close the image, build the surface oracle, refine,
+// encode the mesh. Knows nothing of queues or transports; progress and cancellation go through
+// the engine's ProgressSink.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mesh/mesh_stats.h"
+#include "mesh4d/v1/mesh4d.pb.h"
+#include "refine/progress.h"
+#include "refine/refine_params.h"
+
+namespace mesh4d::server {
+
+struct JobOutcome {
+  std::string mesh;  // the .m4d bytes
+  mesh::MeshStats stats;
+  std::vector<std::string> warnings;
+};
+
+/// Throws refine::Cancelled, refine::BudgetExceeded, ServiceError (bad input) or
+/// std::exception.
+JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& params,
+                   std::string_view input, refine::ProgressSink& sink);
+
+}  // namespace mesh4d::server

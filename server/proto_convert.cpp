@@ -1,0 +1,100 @@
+#include "proto_convert.h"
+
+namespace mesh4d::server {
+namespace {
+
+v1::RuleCounts counts(const std::array<std::uint64_t, 5>& c) {
+  v1::RuleCounts r;
+  r.set_r1(c[0]);
+  r.set_r2(c[1]);
+  r.set_r3(c[2]);
+  r.set_r4(c[3]);
+  r.set_r5(c[4]);
+  return r;
+}
+
+v1::Distribution distribution(const mesh::Distribution& d) {
+  v1::Distribution r;
+  r.set_min(d.min);
+  r.set_max(d.max);
+  r.set_mean(d.mean);
+  r.set_stddev(d.stddev);
+  return r;
+}
+
+}  // namespace
+
+refine::RefineParams to_engine(const v1::RefineParams& p) {
+  refine::RefineParams r;
+  if (p.delta() != 0) r.delta = p.delta();
+  if (p.radius_edge_bound() != 0) r.radius_edge_bound = p.radius_edge_bound();
+  if (p.picking_ratio() != 0) r.picking_ratio = p.picking_ratio();
+  if (p.picking_trials() != 0) r.picking_trials = p.picking_trials();
+  if (p.sliver_bound() != 0) r.sliver_bound = p.sliver_bound();
+  r.max_interior_radius = p.max_interior_radius();
+  if (p.rule_order() == v1::RULE_ORDER_PAPER) r.rule_order = refine::RuleOrder::paper;
+  if (p.seed() != 0) r.seed = p.seed();
+  if (p.vertex_budget() != 0) r.vertex_budget = p.vertex_budget();
+  return r;
+}
+
+v1::RefineParams to_proto(const refine::RefineParams& p, unsigned threads) {
+  v1::RefineParams r;
+  r.set_delta(p.delta);
+  r.set_radius_edge_bound(p.radius_edge_bound);
+  r.set_picking_ratio(p.picking_ratio);
+  r.set_picking_trials(p.picking_trials);
+  r.set_sliver_bound(p.sliver_bound);
+  r.set_max_interior_radius(p.max_interior_radius);
+  r.set_rule_order(p.rule_order == refine::RuleOrder::paper ? v1::RULE_ORDER_PAPER
+                                                            : v1::RULE_ORDER_R3_FIRST);
+  r.set_seed(p.seed);
+  r.set_vertex_budget(p.vertex_budget);
+  r.set_threads(threads);
+  return r;
+}
+
+v1::MeshStats to_proto(const mesh::MeshStats& s) {
+  v1::MeshStats r;
+  r.set_vertices(s.vertices);
+  r.set_pentatopes(s.pentatopes);
+  r.set_boundary_tetrahedra(s.boundary_tetrahedra);
+  r.set_shortest_edge(s.shortest_edge);
+  *r.mutable_radius_edge_ratio() = distribution(s.radius_edge_ratio);
+  *r.mutable_normalized_volume() = distribution(s.normalized_volume);
+  for (auto n : s.normalized_volume_histogram) r.add_normalized_volume_histogram(n);
+  *r.mutable_insertions() = counts(s.insertions);
+  *r.mutable_removals() = counts(s.removals);
+  r.set_elapsed_seconds(s.elapsed_seconds);
+  return r;
+}
+
+v1::Phase to_proto(refine::Phase phase) {
+  switch (phase) {
+    case refine::Phase::loading:
+      return v1::PHASE_LOADING;
+    case refine::Phase::distance_map:
+      return v1::PHASE_DISTANCE_MAP;
+    case refine::Phase::refining:
+      return v1::PHASE_REFINING;
+    case refine::Phase::extracting:
+      return v1::PHASE_EXTRACTING;
+    case refine::Phase::writing:
+      return v1::PHASE_WRITING;
+  }
+  return v1::PHASE_UNSPECIFIED;
+}
+
+v1::Progress to_proto(const refine::Progress& p) {
+  v1::Progress r;
+  r.set_phase(to_proto(p.phase));
+  r.set_vertices(p.vertices);
+  r.set_pentatopes(p.pentatopes);
+  *r.mutable_insertions() = counts(p.insertions);
+  *r.mutable_removals() = counts(p.removals);
+  r.set_rollbacks(p.rollbacks);
+  r.set_elapsed_seconds(p.elapsed_seconds);
+  return r;
+}
+
+}  // namespace mesh4d::server

@@ -1,0 +1,20 @@
+// Conversions between the engine's types and the mesh4d.v1 messages.
+#pragma once
+
+#include "mesh/mesh_stats.h"
+#include "mesh4d/v1/mesh4d.pb.h"
+#include "refine/progress.h"
+#include "refine/refine_params.h"
+
+namespace mesh4d::server {
+
+/// The request's parameters with the engine's defaults where a field is 0 (unset).
+refine::RefineParams to_engine(const v1::RefineParams& p);
+/// Every field filled in (what the job record shows).
+v1::RefineParams to_proto(const refine::RefineParams& p, unsigned threads);
+
+v1::MeshStats to_proto(const mesh::MeshStats& s);
+v1::Progress to_proto(const refine::Progress& p);
+v1::Phase to_proto(refine::Phase phase);
+
+}  // namespace mesh4d::server

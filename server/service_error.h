@@ -1,0 +1,28 @@
+// The job service's errors, independent of the transport: the gRPC service maps them to status
+// codes and the REST face (issue 9) to HTTP statuses, from this one list.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace mesh4d::server {
+
+enum class ErrorCode {
+  invalid_argument,     // bad header, size or checksum mismatch, bad parameters
+  not_found,            // unknown job id
+  failed_precondition,  // e.g. the result of an unfinished job
+  resource_exhausted,   // queue full, image or vertex budget over the limit
+  internal,             // the server's own fault (disk full, ...)
+};
+
+class ServiceError : public std::runtime_error {
+ public:
+  ServiceError(ErrorCode code, const std::string& message)
+      : std::runtime_error(message), code_(code) {}
+  ErrorCode code() const { return code_; }
+
+ private:
+  ErrorCode code_;
+};
+
+}  // namespace mesh4d::server
