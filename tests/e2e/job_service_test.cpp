@@ -1,0 +1,193 @@
+// The job service end to end: the real mesh4d-server on a loopback port, driven through gRPC
+// and through the real mesh4d-client; results read back with the engine's reader and checked.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <csignal>
+#include <future>
+#include <set>
+#include <thread>
+
+#include "domain/image_io.h"
+#include "domain/phantoms.h"
+#include "domain/surface_oracle.h"
+#include "mesh/mesh_check.h"
+#include "mesh/mesh_io.h"
+#include "server_fixture.h"
+
+namespace mesh4d::testing {
+namespace {
+
+domain::LabelImage4 small_sphere() {
+  return domain::hypersphere_phantom({32, 32, 32, 32}, {1, 1, 1, 1}, 12);
+}
+
+// Fidelity of a fetched mesh: boundary vertices on ∂Ω, every region closed and manifold.
+void expect_fidelity(const mesh::Mesh4& m, const domain::LabelImage4& image) {
+  ASSERT_GT(m.pentatopes.size(), 100u);
+  const domain::SurfaceOracle oracle(image);
+  for (const auto& b : m.boundary)
+    for (auto v : b.vertices)
+      ASSERT_LE(std::abs(oracle.cut_value(m.vertices[v], 1, 0)), 1e-6) << "vertex " << v;
+  const auto check = mesh::check_boundary(m);
+  EXPECT_EQ(check.non_feature_uses, 0u);
+  EXPECT_EQ(check.odd, 0u);
+  EXPECT_EQ(check.pinched, 0u);
+}
+
+TEST(JobService, SubmitWatchFetchWithTheRealClient) {
+  const std::string dir = make_temp_dir("mesh4d-jobs");
+  RunningServer server(dir + "/data");
+  ASSERT_FALSE(server.address().empty());
+  const auto image = small_sphere();
+  domain::write_nifti(image, dir + "/sphere.nii.gz");
+
+  // The client: submit --wait --out, then the engine's reader.
+  const RunResult r =
+      run_command({MESH4D_CLIENT_BIN, "--server", server.address(), "submit",
+                   dir + "/sphere.nii.gz", "--delta", "3", "--wait", "--out", dir + "/out.m4d"},
+                  std::chrono::seconds(120));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("JOB_STATE_SUCCEEDED"), std::string::npos) << r.output;
+  const mesh::Mesh4 m = mesh::read_m4d(dir + "/out.m4d");
+  expect_fidelity(m, image);
+
+  // The events, watched from the start of a second job through gRPC: a snapshot first, vertex
+  // and rule counts that rise, the statistics, then SUCCEEDED.
+  auto stub = server.stub();
+  const Upload u = make_upload(image, 2.5, "watch-1");
+  v1::SubmitJobResponse submitted;
+  ASSERT_TRUE(submit(*stub, u.spec, u.data, &submitted).ok());
+  grpc::ClientContext context;
+  v1::WatchJobRequest request;
+  request.set_job_id(submitted.job().id());
+  auto reader = stub->WatchJob(&context, request);
+  v1::JobEvent event;
+  std::vector<v1::JobEvent> events;
+  while (reader->Read(&event)) events.push_back(event);
+  ASSERT_TRUE(reader->Finish().ok());
+  ASSERT_GE(events.size(), 3u);
+  EXPECT_TRUE(events.front().has_snapshot());
+  std::uint64_t last_vertices = 0, last_r1 = 0, rises = 0;
+  for (const auto& e : events) {
+    if (!e.has_progress() || e.progress().phase() != v1::PHASE_REFINING) continue;
+    EXPECT_GE(e.progress().vertices(), last_vertices);
+    EXPECT_GE(e.progress().insertions().r1(), last_r1);
+    rises += e.progress().vertices() > last_vertices;
+    last_vertices = e.progress().vertices();
+    last_r1 = e.progress().insertions().r1();
+  }
+  EXPECT_GT(last_vertices, 0u);
+  EXPECT_GT(last_r1, 0u);
+  for (std::size_t i = 1; i < events.size(); ++i)
+    EXPECT_EQ(events[i].sequence(), events[i - 1].sequence() + 1);
+  ASSERT_TRUE(events[events.size() - 2].has_finished());
+  EXPECT_GT(events[events.size() - 2].finished().pentatopes(), 100u);
+  EXPECT_EQ(events.back().state(), v1::JOB_STATE_SUCCEEDED);
+  std::printf("%zu events, vertex count rose %llu times to %llu\n", events.size(),
+              (unsigned long long)rises, (unsigned long long)last_vertices);
+
+  // A late watcher gets the finished job at once.
+  grpc::ClientContext late;
+  auto late_reader = stub->WatchJob(&late, request);
+  ASSERT_TRUE(late_reader->Read(&event));
+  EXPECT_EQ(event.snapshot().state(), v1::JOB_STATE_SUCCEEDED);
+  EXPECT_FALSE(late_reader->Read(&event));
+  EXPECT_TRUE(late_reader->Finish().ok());
+}
+
+TEST(JobService, KilledServerResumesItsJobAndKeepsEarlierResults) {
+  const std::string dir = make_temp_dir("mesh4d-restart");
+  const auto image = small_sphere();
+  std::string done_id, running_id;
+  {
+    RunningServer server(dir + "/data");
+    auto stub = server.stub();
+    const Upload quick = make_upload(image, 4, "quick");
+    v1::SubmitJobResponse a;
+    ASSERT_TRUE(submit(*stub, quick.spec, quick.data, &a).ok());
+    done_id = a.job().id();
+    ASSERT_EQ(wait_until_done(*stub, done_id).state(), v1::JOB_STATE_SUCCEEDED);
+    const Upload slow = make_upload(image, 1.5, "slow");
+    v1::SubmitJobResponse b;
+    ASSERT_TRUE(submit(*stub, slow.spec, slow.data, &b).ok());
+    running_id = b.job().id();
+    // Kill -9 once the job is refining.
+    v1::Job job;
+    for (int i = 0; i < 400 && job.progress().vertices() == 0; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(25));
+      grpc::ClientContext c;
+      v1::GetJobRequest get;
+      get.set_job_id(running_id);
+      ASSERT_TRUE(stub->GetJob(&c, get, &job).ok());
+    }
+    ASSERT_EQ(job.state(), v1::JOB_STATE_RUNNING);
+    ASSERT_GT(job.progress().vertices(), 0u);
+    server.process().stop(SIGKILL);
+  }
+  RunningServer restarted(dir + "/data");
+  ASSERT_FALSE(restarted.address().empty());
+  auto stub = restarted.stub();
+  const v1::Job finished = wait_until_done(*stub, running_id);
+  EXPECT_EQ(finished.state(), v1::JOB_STATE_SUCCEEDED) << finished.error();
+  for (const auto& id : {done_id, running_id}) {
+    const RunResult fetch = run_command({MESH4D_CLIENT_BIN, "--server", restarted.address(),
+                                         "fetch", id, "--out", dir + "/" + id + ".m4d"});
+    ASSERT_EQ(fetch.exit_code, 0) << fetch.output;
+    expect_fidelity(mesh::read_m4d(dir + "/" + id + ".m4d"), image);
+  }
+  // The same request id after the restart still finds the same job.
+  const Upload again = make_upload(image, 1.5, "slow");
+  v1::SubmitJobResponse dup;
+  ASSERT_TRUE(submit(*stub, again.spec, again.data, &dup).ok());
+  EXPECT_TRUE(dup.deduplicated());
+  EXPECT_EQ(dup.job().id(), running_id);
+}
+
+TEST(JobService, ConcurrentSubmitsAreAcceptedOrRefusedAndNoneIsLost) {
+  const std::string dir = make_temp_dir("mesh4d-load");
+  RunningServer server(dir + "/data", {"--max-queued-jobs", "4"});
+  auto stub = server.stub();
+  const auto image = domain::hypersphere_phantom({16, 16, 16, 16}, {1, 1, 1, 1}, 5);
+  constexpr int kClients = 50;
+  std::vector<std::future<std::pair<grpc::Status, v1::SubmitJobResponse>>> calls;
+  for (int i = 0; i < kClients; ++i)
+    calls.push_back(std::async(std::launch::async, [&, i] {
+      const Upload u = make_upload(image, 3, "load-" + std::to_string(i));
+      v1::SubmitJobResponse response;
+      const grpc::Status s = submit(*stub, u.spec, u.data, &response);
+      return std::make_pair(s, response);
+    }));
+  std::set<std::string> accepted;
+  int refused = 0;
+  for (int i = 0; i < kClients; ++i) {
+    auto [status, response] = calls[i].get();
+    if (status.ok()) {
+      EXPECT_TRUE(accepted.insert(response.job().id()).second) << "two submits, one job";
+      // A retry with the same request id lands on the same job.
+      const Upload u = make_upload(image, 3, "load-" + std::to_string(i));
+      v1::SubmitJobResponse retry;
+      ASSERT_TRUE(submit(*stub, u.spec, u.data, &retry).ok());
+      EXPECT_TRUE(retry.deduplicated());
+      EXPECT_EQ(retry.job().id(), response.job().id());
+    } else {
+      EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED)
+          << status.error_message();
+      ++refused;
+    }
+  }
+  std::printf("%zu accepted, %d refused with RESOURCE_EXHAUSTED\n", accepted.size(), refused);
+  EXPECT_GT(accepted.size(), 0u);
+  EXPECT_GT(refused, 0);
+  for (const auto& id : accepted)
+    EXPECT_EQ(wait_until_done(*stub, id).state(), v1::JOB_STATE_SUCCEEDED);
+  grpc::ClientContext c;
+  v1::ListJobsRequest list;
+  list.set_page_size(1000);
+  v1::ListJobsResponse jobs;
+  ASSERT_TRUE(stub->ListJobs(&c, list, &jobs).ok());
+  EXPECT_EQ(static_cast<std::size_t>(jobs.jobs_size()), accepted.size());
+}
+
+}  // namespace
+}  // namespace mesh4d::testing

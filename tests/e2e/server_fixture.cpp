@@ -1,0 +1,86 @@
+#include "server_fixture.h"
+
+#include <thread>
+
+#include "mesh/mesh_io.h"
+
+namespace mesh4d::testing {
+
+RunningServer::RunningServer(const std::string& data_dir, const std::vector<std::string>& flags) {
+  const std::string port_file = data_dir + ".port";
+  std::remove(port_file.c_str());
+  std::vector<std::string> argv{MESH4D_SERVER_BIN, "--listen",          "127.0.0.1:0",
+                                "--port-file",     port_file,           "--data-dir",
+                                data_dir,          "--threads-per-job", "1"};
+  argv.insert(argv.end(), flags.begin(), flags.end());
+  process_ = std::make_unique<ChildProcess>(argv, data_dir + ".log");
+  const std::string port = wait_for_file(port_file, std::chrono::seconds(20));
+  if (!port.empty()) address_ = "127.0.0.1:" + std::to_string(std::stoi(port));
+}
+
+std::unique_ptr<v1::MeshService::Stub> RunningServer::stub() const {
+  return v1::MeshService::NewStub(
+      grpc::CreateChannel(address_, grpc::InsecureChannelCredentials()));
+}
+
+Upload make_upload(const domain::LabelImage4& image, double delta, const std::string& request_id) {
+  Upload u;
+  u.data.resize(image.voxel_count());
+  for (std::size_t i = 0; i < image.voxel_count(); ++i) u.data[i] = static_cast<char>(image.at(i));
+  auto* h = u.spec.mutable_image();
+  const auto& d = image.dims();
+  h->mutable_dims()->set_x(d[0]);
+  h->mutable_dims()->set_y(d[1]);
+  h->mutable_dims()->set_z(d[2]);
+  h->mutable_dims()->set_t(d[3]);
+  const auto& s = image.spacing();
+  h->mutable_spacing()->set_x(s[0]);
+  h->mutable_spacing()->set_y(s[1]);
+  h->mutable_spacing()->set_z(s[2]);
+  h->mutable_spacing()->set_t(s[3]);
+  h->mutable_origin();
+  h->set_label_type(v1::LABEL_TYPE_UINT8);
+  h->set_byte_size(u.data.size());
+  const auto digest =
+      mesh::sha256(reinterpret_cast<const std::uint8_t*>(u.data.data()), u.data.size());
+  h->set_sha256(std::string(reinterpret_cast<const char*>(digest.data()), 32));
+  u.spec.mutable_params()->set_delta(delta);
+  u.spec.set_request_id(request_id);
+  return u;
+}
+
+grpc::Status submit(v1::MeshService::Stub& stub, const v1::JobSpec& spec, const std::string& data,
+                    v1::SubmitJobResponse* response, const std::string& token) {
+  grpc::ClientContext context;
+  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(60));
+  if (!token.empty()) context.AddMetadata("authorization", "Bearer " + token);
+  auto writer = stub.SubmitJob(&context, response);
+  v1::SubmitJobRequest message;
+  *message.mutable_spec() = spec;
+  bool ok = writer->Write(message);
+  for (std::size_t at = 0; ok && at < data.size(); at += 1 << 16) {
+    message.Clear();
+    message.set_chunk(data.substr(at, 1 << 16));
+    ok = writer->Write(message);
+  }
+  writer->WritesDone();
+  return writer->Finish();
+}
+
+v1::Job wait_until_done(v1::MeshService::Stub& stub, const std::string& id,
+                        std::chrono::seconds timeout) {
+  const auto end = std::chrono::steady_clock::now() + timeout;
+  v1::Job job;
+  while (std::chrono::steady_clock::now() < end) {
+    grpc::ClientContext context;
+    v1::GetJobRequest request;
+    request.set_job_id(id);
+    if (stub.GetJob(&context, request, &job).ok() && job.state() != v1::JOB_STATE_QUEUED &&
+        job.state() != v1::JOB_STATE_RUNNING)
+      return job;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return job;
+}
+
+}  // namespace mesh4d::testing
