@@ -116,6 +116,10 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
     throw ServiceError(ErrorCode::resource_exhausted, m.str());
   }
   refine::RefineParams params = to_engine(spec.params());
+  // An unset budget is the engine's default within this server's limit; only an explicit one
+  // over the limit is refused.
+  if (spec.params().vertex_budget() == 0)
+    params.vertex_budget = std::min(params.vertex_budget, config_.max_vertex_budget);
   try {
     refine::validate(params);
   } catch (const refine::ParamError& e) {
