@@ -97,6 +97,7 @@ std::vector<std::string> JobManager::start() {
         queue_.push_back(job.id());
       }
       if (!job.request_id().empty()) by_request_id_[job.request_id()] = job.id();
+      if (observer_) observer_->on_state(job, v1::JOB_STATE_UNSPECIFIED);
       e->job = std::move(job);
       jobs_[e->job.id()] = std::move(e);
     }

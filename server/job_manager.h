@@ -35,6 +35,7 @@ struct JobObserver {
   virtual ~JobObserver() = default;
   virtual void on_state(const v1::Job& /*job*/, v1::JobState /*previous*/) {}
   virtual void on_bytes_received(std::uint64_t /*bytes*/) {}
+  virtual void on_bytes_sent(std::uint64_t /*bytes*/) {}
 };
 
 class JobManager {

@@ -15,6 +15,7 @@
 #include "job_manager.h"
 #include "job_store.h"
 #include "mesh_service.h"
+#include "metrics.h"
 #include "server_options.h"
 
 namespace {
@@ -26,11 +27,13 @@ std::string bound_address(const std::string& listen, int port) {
 }
 
 // Written to a temporary file then renamed, so a reader never sees a partial number.
-bool write_port_file(const std::string& path, int port) {
+// The gRPC port on the first line; the metrics port, when served, on the second.
+bool write_port_file(const std::string& path, int port, int metrics_port) {
   const std::string tmp = path + ".tmp";
   {
     std::ofstream out(tmp, std::ios::trunc);
     out << port << "\n";
+    if (metrics_port) out << metrics_port << "\n";
     if (!out.flush()) return false;
   }
   std::error_code ec;
@@ -102,9 +105,20 @@ int main(int argc, char** argv) {
   config.max_image_bytes = options.max_image_mb << 20;
   config.max_vertex_budget = options.max_vertex_budget;
   config.retention = std::chrono::seconds(static_cast<long long>(options.retention_hours * 3600));
-  JobManager jobs(*store, config);
+  std::unique_ptr<ServiceMetrics> metrics;
+  if (!options.metrics_listen.empty()) {
+    try {
+      metrics = std::make_unique<ServiceMetrics>(options.metrics_listen);
+    } catch (const std::exception& e) {
+      spdlog::error("cannot serve metrics on {}: {}", options.metrics_listen, e.what());
+      return 2;
+    }
+    spdlog::info("metrics on http://{}/metrics",
+                 bound_address(options.metrics_listen, metrics->port()));
+  }
+  JobManager jobs(*store, config, metrics.get());
   for (const auto& problem : jobs.start()) spdlog::warn("{}", problem);
-  MeshService service(jobs, options.token);
+  MeshService service(jobs, options.token, metrics.get());
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
@@ -125,7 +139,8 @@ int main(int argc, char** argv) {
   }
   spdlog::info("mesh4d-server listening on {}, data in {}", bound_address(options.listen, port),
                options.data_dir);
-  if (!options.port_file.empty() && !write_port_file(options.port_file, port)) {
+  if (!options.port_file.empty() &&
+      !write_port_file(options.port_file, port, metrics ? metrics->port() : 0)) {
     spdlog::error("cannot write port file {}", options.port_file);
     server->Shutdown();
     return 2;

@@ -171,6 +171,7 @@ grpc::Status MeshService::GetResult(grpc::ServerContext* context,
       message.set_chunk(result.mesh.substr(at, kResultChunk));
       if (!writer->Write(message)) return grpc::Status(grpc::StatusCode::CANCELLED, "reader left");
     }
+    if (observer_) observer_->on_bytes_sent(result.mesh.size());
     return grpc::Status::OK;
   });
 }

@@ -12,7 +12,8 @@ namespace mesh4d::server {
 class MeshService final : public v1::MeshService::Service {
  public:
   /// `token`: when not empty, every call must carry "authorization: Bearer <token>".
-  MeshService(JobManager& jobs, std::string token) : jobs_(jobs), token_(std::move(token)) {}
+  MeshService(JobManager& jobs, std::string token, JobObserver* observer = nullptr)
+      : jobs_(jobs), token_(std::move(token)), observer_(observer) {}
 
   grpc::Status SubmitJob(grpc::ServerContext* context,
                          grpc::ServerReader<v1::SubmitJobRequest>* reader,
@@ -35,6 +36,7 @@ class MeshService final : public v1::MeshService::Service {
 
   JobManager& jobs_;
   std::string token_;
+  JobObserver* observer_;
 };
 
 }  // namespace mesh4d::server

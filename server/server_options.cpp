@@ -89,6 +89,10 @@ void add_server_options(CLI::App& app, ServerOptions& o) {
   app.add_option("--tls-cert", o.tls_cert, "PEM certificate chain (with --tls-key: TLS on)")
       ->envname("MESH4D_TLS_CERT");
   app.add_option("--tls-key", o.tls_key, "PEM private key")->envname("MESH4D_TLS_KEY");
+  app.add_option("--metrics-listen", o.metrics_listen,
+                 "host:port of the Prometheus /metrics endpoint (empty: off; port 0: any)")
+      ->envname("MESH4D_METRICS_LISTEN")
+      ->capture_default_str();
 }
 
 }  // namespace mesh4d::server

@@ -28,6 +28,7 @@ struct ServerOptions {
   std::string token;           // when set, calls need "authorization: Bearer <token>"
   std::string tls_cert;        // PEM files: both set switches the API to TLS
   std::string tls_key;
+  std::string metrics_listen = "127.0.0.1:9464";  // Prometheus /metrics; empty: off
 };
 
 /// Loads a JSON configuration file (keys as the flags without dashes, '-' as '_'). Throws

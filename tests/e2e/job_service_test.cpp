@@ -94,6 +94,23 @@ TEST(JobService, SubmitWatchFetchWithTheRealClient) {
   EXPECT_EQ(event.snapshot().state(), v1::JOB_STATE_SUCCEEDED);
   EXPECT_FALSE(late_reader->Read(&event));
   EXPECT_TRUE(late_reader->Finish().ok());
+
+  // The metrics moved: two jobs succeeded, uploads and a download counted, rules counted.
+  ASSERT_GT(server.metrics_port(), 0);
+  const RunResult scrape =
+      run_command({"/usr/bin/curl", "-sS",
+                   "http://127.0.0.1:" + std::to_string(server.metrics_port()) + "/metrics"});
+  ASSERT_EQ(scrape.exit_code, 0) << scrape.output;
+  const std::string& text = scrape.output;
+  EXPECT_NE(text.find("mesh4d_jobs_finished_total{state=\"succeeded\"} 2"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("mesh4d_jobs{state=\"succeeded\"} 2"), std::string::npos) << text;
+  EXPECT_NE(text.find("mesh4d_job_duration_seconds_count 2"), std::string::npos) << text;
+  EXPECT_EQ(text.find("mesh4d_received_bytes_total 0"), std::string::npos) << text;
+  EXPECT_EQ(text.find("mesh4d_sent_bytes_total 0"), std::string::npos) << text;
+  EXPECT_EQ(text.find("mesh4d_insertions_total{rule=\"R1\"} 0"), std::string::npos) << text;
+  EXPECT_NE(text.find("mesh4d_insertions_total{rule=\"R1\"}"), std::string::npos) << text;
+  EXPECT_EQ(text.find("mesh4d_pentatopes_produced_total 0"), std::string::npos) << text;
 }
 
 TEST(JobService, KilledServerResumesItsJobAndKeepsEarlierResults) {

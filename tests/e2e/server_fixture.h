@@ -20,11 +20,13 @@ class RunningServer {
   /// Starts mesh4d-server on 127.0.0.1:0 with `data_dir` and the extra flags; waits for its port.
   RunningServer(const std::string& data_dir, const std::vector<std::string>& flags = {});
   const std::string& address() const { return address_; }
+  int metrics_port() const { return metrics_port_; }
   ChildProcess& process() { return *process_; }
   std::unique_ptr<v1::MeshService::Stub> stub() const;
 
  private:
   std::string address_;
+  int metrics_port_ = 0;
   std::unique_ptr<ChildProcess> process_;
 };
 
