@@ -1,13 +1,13 @@
 #include "job_manager.h"
 
 #include <google/protobuf/util/time_util.h>
-#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <random>
 #include <sstream>
 
+#include "job_log.h"
 #include "job_runner.h"
 #include "proto_convert.h"
 #include "refine/refiner.h"
@@ -186,7 +186,7 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
   event.set_state(v1::JOB_STATE_QUEUED);
   publish(entry, std::move(event));
   if (observer_) observer_->on_state(entry.job, v1::JOB_STATE_UNSPECIFIED);
-  spdlog::info("job {} queued ({} bytes, delta {})", id, data.size(), params.delta);
+  log_job(spdlog::level::info, id, "queued ({} bytes, delta {})", data.size(), params.delta);
   return {view(entry), false};
 }
 
@@ -221,7 +221,7 @@ void JobManager::set_state(Entry& e, v1::JobState state) {
   try {
     store_.save(e.job);
   } catch (const std::exception& ex) {
-    spdlog::error("job {}: cannot store its state: {}", e.job.id(), ex.what());
+    log_job(spdlog::level::err, e.job.id(), "cannot store its state: {}", ex.what());
   }
   v1::JobEvent event;
   event.set_state(state);
@@ -241,7 +241,7 @@ v1::Job JobManager::cancel(const std::string& id) {
     queue_.erase(std::find(queue_.begin(), queue_.end(), id));
     e.job.set_error("cancelled by request while queued");
     set_state(e, v1::JOB_STATE_CANCELLED);
-    spdlog::info("job {} cancelled while queued", id);
+    log_job(spdlog::level::info, id, "cancelled while queued");
   } else if (e.job.state() == v1::JOB_STATE_RUNNING) {
     e.cancel = true;  // the runner stops at its next check and records CANCELLED
   }
@@ -260,7 +260,7 @@ void JobManager::remove(const std::string& id) {
   store_.remove(id);
   jobs_.erase(id);
   changed_.notify_all();
-  spdlog::info("job {} deleted", id);
+  log_job(spdlog::level::info, id, "deleted");
 }
 
 JobManager::Page JobManager::list(v1::JobState state, std::uint32_t page_size,
@@ -359,7 +359,7 @@ void JobManager::sweep_expired() {
     if (!e.job.request_id().empty()) by_request_id_.erase(e.job.request_id());
     store_.remove(id);
     jobs_.erase(id);
-    spdlog::info("job {} deleted: older than the retention", id);
+    log_job(spdlog::level::info, id, "deleted: older than the retention");
   }
   if (!expired.empty()) changed_.notify_all();
 }
@@ -391,7 +391,7 @@ void JobManager::run(const std::string& id) {
     header = entry->job.image();
     params = to_engine(entry->job.params());
   }
-  spdlog::info("job {} running", id);
+  log_job(spdlog::level::info, id, "running");
   Sink sink(*this, *entry);
   std::string error;
   v1::JobState end = v1::JOB_STATE_FAILED;
@@ -407,13 +407,13 @@ void JobManager::run(const std::string& id) {
     *finished.mutable_finished() = entry->job.stats();
     publish(*entry, std::move(finished));
     set_state(*entry, v1::JOB_STATE_SUCCEEDED);
-    spdlog::info("job {} succeeded: {} pentatopes in {:.2f} s", id, outcome.stats.pentatopes,
-                 outcome.stats.elapsed_seconds);
+    log_job(spdlog::level::info, id, "succeeded: {} pentatopes in {:.2f} s",
+            outcome.stats.pentatopes, outcome.stats.elapsed_seconds);
     return;
   } catch (const refine::Cancelled&) {
     std::lock_guard lock(mu_);
     if (stopping_ && !entry->cancel) {
-      spdlog::info("job {} interrupted by shutdown: it runs again at restart", id);
+      log_job(spdlog::level::info, id, "interrupted by shutdown: it runs again at restart");
       return;  // still RUNNING on disk
     }
     error = "cancelled by request while running";
@@ -424,7 +424,7 @@ void JobManager::run(const std::string& id) {
   std::lock_guard lock(mu_);
   entry->job.set_error(error);
   set_state(*entry, end);
-  spdlog::info("job {} {}: {}", id, v1::JobState_Name(end), error);
+  log_job(spdlog::level::info, id, "{}: {}", v1::JobState_Name(end), error);
 }
 
 }  // namespace mesh4d::server

@@ -6,6 +6,25 @@
 #include "upload_check.h"
 
 namespace mesh4d::server {
+namespace {
+
+// Remembers the refiner's last report, so that the writing phase can repeat its counts: the
+// triangulation's counts only grow during a job, and the output mesh's go in MeshStats.
+class LastProgress final : public refine::ProgressSink {
+ public:
+  explicit LastProgress(refine::ProgressSink& next) : next_(next) {}
+  void on_progress(const refine::Progress& progress) override {
+    last = progress;
+    next_.on_progress(progress);
+  }
+  bool should_abort() override { return next_.should_abort(); }
+  refine::Progress last;
+
+ private:
+  refine::ProgressSink& next_;
+};
+
+}  // namespace
 
 JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& params,
                    std::string_view input, refine::ProgressSink& sink) {
@@ -20,14 +39,10 @@ JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& pa
   const domain::SurfaceOracle oracle(image);
   if (sink.should_abort()) throw refine::Cancelled();
   refine::Refiner refiner(oracle, params);
-  refine::RefineResult result = refiner.run(&sink);
-  phase = {};
+  LastProgress refining(sink);
+  refine::RefineResult result = refiner.run(&refining);
+  phase = refining.last;
   phase.phase = refine::Phase::writing;
-  phase.vertices = result.stats.vertices;
-  phase.pentatopes = result.stats.pentatopes;
-  phase.insertions = result.stats.insertions;
-  phase.removals = result.stats.removals;
-  phase.elapsed_seconds = result.stats.elapsed_seconds;
   sink.on_progress(phase);
   const auto bytes = mesh::encode_m4d(result.mesh);
   out.mesh.assign(reinterpret_cast<const char*>(bytes.data()), bytes.size());

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "job_log.h"
 #include "job_manager.h"
 #include "job_store.h"
 #include "mesh_service.h"
@@ -72,6 +73,7 @@ std::shared_ptr<grpc::ServerCredentials> credentials(const mesh4d::server::Serve
 int main(int argc, char** argv) {
   using namespace mesh4d::server;
   ServerOptions options;
+  configure_logging(LogFormat::json);
   CLI::App app{"mesh4d-server: meshes 4D label images into pentatope meshes, over gRPC"};
   try {
     const std::string config = config_file_argument(argc, argv);
@@ -82,6 +84,7 @@ int main(int argc, char** argv) {
   }
   add_server_options(app, options);
   CLI11_PARSE(app, argc, argv);
+  configure_logging(parse_log_format(options.log_format));
 
   // Block the stop signals before gRPC starts its threads, so only sigwait below receives them.
   sigset_t stop_signals;

@@ -29,6 +29,7 @@ struct ServerOptions {
   std::string tls_cert;        // PEM files: both set switches the API to TLS
   std::string tls_key;
   std::string metrics_listen = "127.0.0.1:9464";  // Prometheus /metrics; empty: off
+  std::string log_format = "json";                // "json": one object a line; "text"
 };
 
 /// Loads a JSON configuration file (keys as the flags without dashes, '-' as '_'). Throws
