@@ -13,7 +13,7 @@
 #include "job_calls.h"
 #include "job_commands.h"
 #include "job_printing.h"
-#include "mesh/mesh_io.h"
+#include "upload_encoding.h"
 
 namespace mesh4d::client {
 namespace {
@@ -31,23 +31,6 @@ struct SubmitOptions {
 };
 
 // The raw upload: one byte per voxel when every label fits, else two (little-endian).
-std::string raw_labels(const domain::LabelImage4& image, v1::LabelType* type) {
-  const auto labels = image.labels();
-  const bool wide = !labels.empty() && labels.back() > 255;
-  *type = wide ? v1::LABEL_TYPE_UINT16 : v1::LABEL_TYPE_UINT8;
-  std::string raw(image.voxel_count() * (wide ? 2 : 1), '\0');
-  for (std::size_t i = 0; i < image.voxel_count(); ++i) {
-    const auto l = image.at(i);
-    if (wide) {
-      raw[2 * i] = static_cast<char>(l & 0xFF);
-      raw[2 * i + 1] = static_cast<char>(l >> 8);
-    } else {
-      raw[i] = static_cast<char>(l);
-    }
-  }
-  return raw;
-}
-
 // --params file (JSON keys as the RefineParams fields), then the flags on top.
 void fill_params(const SubmitOptions& o, v1::RefineParams* p) {
   if (!o.params_file.empty()) {
@@ -100,23 +83,10 @@ int run_submit(const GlobalOptions& global, const SubmitOptions& o) {
     const domain::LabelImage4 image = o.frames.empty()
                                           ? domain::read_label_image(o.image)
                                           : domain::read_label_frames(o.frames, o.time_scale);
-    v1::LabelType type;
-    raw = raw_labels(image, &type);
     auto* h = spec.mutable_image();
-    const auto& d = image.dims();
-    h->mutable_dims()->set_x(d[0]), h->mutable_dims()->set_y(d[1]);
-    h->mutable_dims()->set_z(d[2]), h->mutable_dims()->set_t(d[3]);
-    const auto& s = image.spacing();
-    h->mutable_spacing()->set_x(s[0]), h->mutable_spacing()->set_y(s[1]);
-    h->mutable_spacing()->set_z(s[2]);
-    h->mutable_spacing()->set_t(o.frames.empty() && o.time_scale != 1 ? o.time_scale : s[3]);
-    const auto& org = image.origin();
-    h->mutable_origin()->set_x(org[0]), h->mutable_origin()->set_y(org[1]);
-    h->mutable_origin()->set_z(org[2]), h->mutable_origin()->set_t(org[3]);
-    h->set_label_type(type);
-    h->set_byte_size(raw.size());
-    const auto digest = mesh::sha256(reinterpret_cast<const std::uint8_t*>(raw.data()), raw.size());
-    h->set_sha256(std::string(reinterpret_cast<const char*>(digest.data()), digest.size()));
+    raw = encode_upload(image, h);
+    // The time scale of a 4D file can be overridden; a frame series got it when read.
+    if (o.frames.empty() && o.time_scale != 1) h->mutable_spacing()->set_t(o.time_scale);
     fill_params(o, spec.mutable_params());
   } catch (const std::exception& e) {
     std::cerr << "mesh4d-client: submit: " << e.what() << "\n";

@@ -290,6 +290,9 @@ JobManager::Result JobManager::result(const std::string& id) const {
   {
     std::lock_guard lock(mu_);
     const Entry& e = find(id);
+    if (e.job.state() == v1::JOB_STATE_CANCELLED)
+      throw ServiceError(ErrorCode::cancelled,
+                         "job " + id + " was cancelled (" + e.job.error() + "): it has no result");
     if (e.job.state() != v1::JOB_STATE_SUCCEEDED)
       throw ServiceError(ErrorCode::failed_precondition,
                          "job " + id + " is " + v1::JobState_Name(e.job.state()) +

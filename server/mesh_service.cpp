@@ -21,6 +21,8 @@ grpc::Status to_status(const ServiceError& e) {
       return {grpc::StatusCode::NOT_FOUND, e.what()};
     case ErrorCode::failed_precondition:
       return {grpc::StatusCode::FAILED_PRECONDITION, e.what()};
+    case ErrorCode::cancelled:
+      return {grpc::StatusCode::CANCELLED, e.what()};
     case ErrorCode::resource_exhausted:
       return {grpc::StatusCode::RESOURCE_EXHAUSTED, e.what()};
     case ErrorCode::internal:

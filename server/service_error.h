@@ -10,7 +10,8 @@ namespace mesh4d::server {
 enum class ErrorCode {
   invalid_argument,     // bad header, size or checksum mismatch, bad parameters
   not_found,            // unknown job id
-  failed_precondition,  // e.g. the result of an unfinished job
+  failed_precondition,  // e.g. the result of an unfinished or failed job
+  cancelled,            // the result of a job that was cancelled
   resource_exhausted,   // queue full, image or vertex budget over the limit
   internal,             // the server's own fault (disk full, ...)
 };

@@ -148,6 +148,14 @@ TEST(BadInput, EachBadUploadGetsItsStatusAndTheServerStaysHealthy) {
     v1::Job j;
     ASSERT_TRUE(stub->CancelJob(&cc, cancel, &j).ok());
     EXPECT_EQ(wait_until_done(*stub, s.job().id()).state(), v1::JOB_STATE_CANCELLED);
+    // A cancelled job has no result: CANCELLED, saying so.
+    grpc::ClientContext c2;
+    auto reader2 = stub->GetResult(&c2, r);
+    EXPECT_FALSE(reader2->Read(&m));
+    const grpc::Status after = reader2->Finish();
+    expect_code(after, grpc::StatusCode::CANCELLED);
+    EXPECT_NE(after.error_message().find("was cancelled"), std::string::npos)
+        << after.error_message();
   }
   {
     grpc::ClientContext c;

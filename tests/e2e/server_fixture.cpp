@@ -2,7 +2,7 @@
 
 #include <thread>
 
-#include "mesh/mesh_io.h"
+#include "upload_encoding.h"
 
 namespace mesh4d::testing {
 
@@ -30,25 +30,7 @@ std::unique_ptr<v1::MeshService::Stub> RunningServer::stub() const {
 
 Upload make_upload(const domain::LabelImage4& image, double delta, const std::string& request_id) {
   Upload u;
-  u.data.resize(image.voxel_count());
-  for (std::size_t i = 0; i < image.voxel_count(); ++i) u.data[i] = static_cast<char>(image.at(i));
-  auto* h = u.spec.mutable_image();
-  const auto& d = image.dims();
-  h->mutable_dims()->set_x(d[0]);
-  h->mutable_dims()->set_y(d[1]);
-  h->mutable_dims()->set_z(d[2]);
-  h->mutable_dims()->set_t(d[3]);
-  const auto& s = image.spacing();
-  h->mutable_spacing()->set_x(s[0]);
-  h->mutable_spacing()->set_y(s[1]);
-  h->mutable_spacing()->set_z(s[2]);
-  h->mutable_spacing()->set_t(s[3]);
-  h->mutable_origin();
-  h->set_label_type(v1::LABEL_TYPE_UINT8);
-  h->set_byte_size(u.data.size());
-  const auto digest =
-      mesh::sha256(reinterpret_cast<const std::uint8_t*>(u.data.data()), u.data.size());
-  h->set_sha256(std::string(reinterpret_cast<const char*>(digest.data()), 32));
+  u.data = client::encode_upload(image, u.spec.mutable_image());
   u.spec.mutable_params()->set_delta(delta);
   u.spec.set_request_id(request_id);
   return u;
