@@ -86,11 +86,18 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
   return f;
 }
 
+// --only TEXT: run just the rows whose name contains TEXT; --junction-spacing X: that spacing
+// (relative to Δ) instead of the default, 0 for none.
+std::string g_only;
+double g_junction_spacing = refine::RefineParams{}.junction_spacing;
+
 void row(const char* name, const domain::LabelImage4& image, double delta,
          refine::RuleOrder order) {
+  if (!g_only.empty() && std::string(name).find(g_only) == std::string::npos) return;
   refine::RefineParams params;
   params.delta = delta;
   params.rule_order = order;
+  params.junction_spacing = g_junction_spacing;
   const Flat f = run_child(image, params);
   if (!f.ok) {
     std::printf("| %s | run failed |\n", name);
@@ -109,8 +116,14 @@ void row(const char* name, const domain::LabelImage4& image, double delta,
 
 }  // namespace
 
-int main() {
-  std::printf("Sequential refinement (R1-R5), one thread\n");
+int main(int argc, char** argv) {
+  for (int i = 1; i + 1 < argc; i += 2) {
+    if (std::strcmp(argv[i], "--only") == 0) g_only = argv[i + 1];
+    if (std::strcmp(argv[i], "--junction-spacing") == 0)
+      g_junction_spacing = std::atof(argv[i + 1]);
+  }
+  std::printf("Sequential refinement (R1-R5), one thread, junction spacing %g delta\n",
+              g_junction_spacing);
   std::printf(
       "| input | rule order | δ | pentatopes | boundary tets | vertices | shortest edge | "
       "radius-edge max / mean / std | normalized volume min / mean / std | time s | "

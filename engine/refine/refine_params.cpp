@@ -29,6 +29,8 @@ void validate(const RefineParams& p) {
           "sliver_bound", p.sliver_bound, "must be in [0, 1)");
   require(std::isfinite(p.max_interior_radius) && p.max_interior_radius >= 0, "max_interior_radius",
           p.max_interior_radius, "must be finite and ≥ 0 (0: no bound)");
+  require(std::isfinite(p.junction_spacing) && p.junction_spacing >= 0 && p.junction_spacing <= 1,
+          "junction_spacing", p.junction_spacing, "must be in [0, 1] (0: off)");
   require(p.vertex_budget >= 16, "vertex_budget", double(p.vertex_budget),
           "must be at least 16 (the box corners)");
 }

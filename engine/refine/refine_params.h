@@ -21,6 +21,10 @@ struct RefineParams {
   RuleOrder rule_order = RuleOrder::r3_first;
   std::uint64_t seed = 1;                   // of the random picking: same seed, same mesh
   std::uint64_t vertex_budget = 5'000'000;  // refinement stops with an error past this
+  // Where three labels meet, sample their junction first, points this far apart relative to Δ
+  // (refiner_junctions.cpp). Off by default: on the patients it did not reduce the pinches (most
+  // are on the cavity-myocardium interface, away from junctions; docs/performance.md).
+  double junction_spacing = 0;
 };
 
 /// Bad parameters: the message names the parameter and the accepted range.

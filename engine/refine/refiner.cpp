@@ -371,6 +371,7 @@ void Refiner::drain(ProgressSink* sink) {
 RefineResult Refiner::run(ProgressSink* sink) {
   start_ = last_report_ = std::chrono::steady_clock::now();
   insert_box();
+  insert_junctions();
   std::vector<CellId> fresh;
   for (CellId c = 0; c < tri_.store().cell_slots(); ++c)
     if (tri_.store().is_live(c)) fresh.push_back(c);

@@ -58,6 +58,8 @@ class Refiner {
   };
 
   void insert_box();
+  // Feature vertices on every triple junction, RefineParams::junction_spacing · Δ apart.
+  void insert_junctions();
   // New pentatopes: their info first (neighbors' labels are read by the R5 check), then queued.
   void admit(const std::vector<delaunay::CellId>& cells);
   void update_info(delaunay::CellId c);

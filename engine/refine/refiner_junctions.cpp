@@ -6,12 +6,27 @@
 #include <algorithm>
 #include <array>
 
+#include "delaunay/spatial_sort.h"
+#include "domain/junctions.h"
 #include "refine/refiner.h"
 
 namespace mesh4d::refine {
 
 using delaunay::CellId;
 using delaunay::VertexKind;
+
+void Refiner::insert_junctions() {
+  if (params_.junction_spacing <= 0) return;
+  const double spacing = params_.junction_spacing * params_.delta;
+  const auto junctions = domain::sample_junctions(
+      oracle_, [&](const Point4& p) { return !features_.any_within(p, spacing); },
+      [&](const Point4& p) { features_.add(p); });
+  std::vector<Point4> points;
+  points.reserve(junctions.size());
+  for (const auto& j : junctions) points.push_back(j.point);
+  // Before any rule runs, straight into the triangulation: the first admit() sees every cell.
+  for (std::size_t i : delaunay::spatial_order(points)) tri_.insert(points[i], VertexKind::feature);
+}
 
 std::size_t Refiner::count_pinches(std::vector<PinchedTriangle>* pinched) const {
   // Records (region label, sorted triangle, facet) for every triangle of every region's
