@@ -1,9 +1,14 @@
 // Helpers shared by the benchmarks.
 #pragma once
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <string>
+#include <type_traits>
 
 namespace mesh4d::bench {
 
@@ -15,6 +20,40 @@ inline long status_kb(const char* field) {
   while (std::getline(in, line))
     if (line.compare(0, n, field) == 0) return std::stol(line.substr(n + 1));
   return 0;
+}
+
+/// Runs `work` in a forked child, so that its peak memory is its own, and returns its result
+/// (plain data, sent back through a pipe); nothing when the child failed or threw.
+template <typename T, typename F>
+std::optional<T> run_in_child(F&& work) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  int fd[2];
+  if (pipe(fd) != 0) return std::nullopt;
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fd[0]);
+    const T result = work();
+    const auto* bytes = reinterpret_cast<const char*>(&result);
+    for (std::size_t at = 0; at < sizeof result;) {
+      const ssize_t n = write(fd[1], bytes + at, sizeof result - at);
+      if (n <= 0) _exit(1);
+      at += static_cast<std::size_t>(n);
+    }
+    _exit(0);
+  }
+  close(fd[1]);
+  T out;
+  auto* bytes = reinterpret_cast<char*>(&out);
+  std::size_t at = 0;
+  while (at < sizeof out) {
+    const ssize_t n = read(fd[0], bytes + at, sizeof out - at);
+    if (n <= 0) break;
+    at += static_cast<std::size_t>(n);
+  }
+  close(fd[0]);
+  waitpid(pid, nullptr, 0);
+  if (at != sizeof out) return std::nullopt;
+  return out;
 }
 
 }  // namespace mesh4d::bench

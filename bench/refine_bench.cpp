@@ -5,11 +5,8 @@
 // The paper's figures for scale: 145 pentatopes/s on its 40k-pentatope hypersphere, 184 with
 // R3 first; Pat1 at δ = 5: 49,479 pentatopes, 4,709 vertices, 30,758 boundary tetrahedra.
 // The five patients of ../shared/data/heart4d (when present) at δ = 5, with the files' spacing
-// (all 25 frames) and with the paper's (1.77, 1.77, 6, 1; first 15 frames). Not yet here: CGAL
-// Mesh_3 per frame (issue 5).
-#include <sys/wait.h>
-#include <unistd.h>
-
+// (all 25 frames) and with the paper's (1.77, 1.77, 6, 1; first 15 frames). Then Pat01's whole
+// cycle against each frame meshed alone by CGAL Mesh_3 (frames_comparison.h).
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -22,6 +19,7 @@
 #include "domain/image_io.h"
 #include "domain/phantoms.h"
 #include "domain/surface_oracle.h"
+#include "frames_comparison.h"
 #include "mesh/mesh_check.h"
 #include "refine/refiner.h"
 
@@ -46,12 +44,7 @@ struct Flat {
 };
 
 Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& params) {
-  Flat f{};
-  int fd[2];
-  if (pipe(fd) != 0) return f;
-  const pid_t pid = fork();
-  if (pid == 0) {
-    close(fd[0]);
+  const auto result = mesh4d::bench::run_in_child<Flat>([&] {
     domain::LabelImage4 closed = image;
     domain::validate_and_close(closed);
     const domain::SurfaceOracle oracle(closed);
@@ -76,14 +69,9 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
              status_kb("VmHWM:") / 1024.0,
              true};
     for (auto n : r.stats.insertions) out.insertions += n;
-    if (write(fd[1], &out, sizeof out) != sizeof out) _exit(1);
-    _exit(0);
-  }
-  close(fd[1]);
-  if (read(fd[0], &f, sizeof f) != sizeof f) f.ok = false;
-  close(fd[0]);
-  waitpid(pid, nullptr, 0);
-  return f;
+    return out;
+  });
+  return result ? *result : Flat{};
 }
 
 // --only TEXT: run just the rows whose name contains TEXT; --junction-spacing X: that spacing
@@ -152,5 +140,9 @@ int main(int argc, char** argv) {
       if (image.at(i) != 0) paper.set(i, image.at(i));
     row((name + ", paper spacing, 15 frames").c_str(), paper, 5, refine::RuleOrder::r3_first);
   }
+  const std::string pat01 = dir + "/Pat01_mse4d_label4d.nii.gz";
+  if (std::ifstream(pat01) && (g_only.empty() || g_only == "Mesh_3"))
+    mesh4d::bench::compare_with_mesh3_frames("Pat01 (files' spacing, 25 frames)",
+                                             domain::read_label_image(pat01), 5);
   return 0;
 }

@@ -30,6 +30,12 @@ SurfaceOracle::SurfaceOracle(const LabelImage4& image)
   const Vec4& s = image.spacing();
   voxel_size_ = std::max(std::max(s[0], s[1]), std::max(s[2], s[3]));
   cell_diagonal_ = norm(s);
+  // β by rank among the labels present (background first): 0 for the lowest, kMaxLabelOffset
+  // for the highest.
+  const std::vector<Label> labels = image.labels();
+  offset_.assign(labels.back() + 1u, 0.0);
+  for (std::size_t r = 0; r < labels.size(); ++r)
+    offset_[labels[r]] = kMaxLabelOffset * static_cast<double>(r) / (labels.size() - 1);
 }
 
 std::pair<double, double> SurfaceOracle::surface_distance_bounds(const Point4& x) const {
@@ -83,6 +89,7 @@ SurfaceOracle::LabelWeights SurfaceOracle::weights_at(const Point4& x) const {
     }
     w.weight[k] += weight;
   }
+  for (int k = 0; k < w.count; ++k) w.weight[k] += offset(w.label[k]);
   return w;
 }
 
@@ -103,7 +110,8 @@ Label SurfaceOracle::label_at(const Point4& x) const {
 
 double SurfaceOracle::cut_value(const Point4& x, Label a, Label b) const {
   const LabelWeights w = weights_at(x);
-  double ia = 0, ib = 0;
+  // A label absent around x has I = 0 but keeps its offset.
+  double ia = offset(a), ib = offset(b);
   for (int k = 0; k < w.count; ++k) {
     if (w.label[k] == a) ia = w.weight[k];
     if (w.label[k] == b) ib = w.weight[k];
