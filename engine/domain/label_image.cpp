@@ -91,11 +91,6 @@ Point4 LabelImage4::voxel_center(std::size_t x, std::size_t y, std::size_t z, st
           origin_[2] + double(z) * spacing_[2], origin_[3] + double(t) * spacing_[3]};
 }
 
-Vec4 LabelImage4::to_index(const Point4& p) const {
-  return {(p[0] - origin_[0]) / spacing_[0], (p[1] - origin_[1]) / spacing_[1],
-          (p[2] - origin_[2]) / spacing_[2], (p[3] - origin_[3]) / spacing_[3]};
-}
-
 std::array<Point4, 2> LabelImage4::bounds() const {
   return {voxel_center(0, 0, 0, 0),
           voxel_center(dims_[0] - 1, dims_[1] - 1, dims_[2] - 1, dims_[3] - 1)};

@@ -66,7 +66,10 @@ class LabelImage4 {
   /// Physical center of a voxel.
   Point4 voxel_center(std::size_t x, std::size_t y, std::size_t z, std::size_t t) const;
   /// Continuous voxel coordinates of a physical point (voxel centers are integers).
-  Vec4 to_index(const Point4& p) const;
+  Vec4 to_index(const Point4& p) const {
+    return {(p[0] - origin_[0]) / spacing_[0], (p[1] - origin_[1]) / spacing_[1],
+            (p[2] - origin_[2]) / spacing_[2], (p[3] - origin_[3]) / spacing_[3]};
+  }
   /// Physical bounding box of the voxel centers: {min corner, max corner}.
   std::array<Point4, 2> bounds() const;
 

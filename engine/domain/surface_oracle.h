@@ -80,6 +80,7 @@ class SurfaceOracle {
   };
   LabelWeights weights_at(const Point4& x) const;
   Label argmax(const LabelWeights& w) const;
+  double cut_from(const LabelWeights& w, Label a, Label b) const;
   SurfacePoint bisect(Point4 a, Point4 b, Label label_a) const;
   std::optional<SurfacePoint> project_along(const Point4& seed, const Vec4& normal) const;
   void refine_towards(const Point4& x, SurfacePoint& z) const;
@@ -88,9 +89,10 @@ class SurfaceOracle {
 
   const LabelImage4& image_;
   std::vector<std::uint32_t> feature_;
-  std::vector<double> offset_;  // β by label value
-  double voxel_size_;           // the largest spacing: the scale of search steps
-  double cell_diagonal_;        // of the hypercube between 16 voxel centers
+  std::vector<double> offset_;     // β by label value
+  std::size_t corner_offset_[16];  // linear index of each of a cell's corners from its first
+  double voxel_size_;              // the largest spacing: the scale of search steps
+  double cell_diagonal_;           // of the hypercube between 16 voxel centers
 };
 
 }  // namespace mesh4d::domain
