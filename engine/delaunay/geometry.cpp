@@ -18,7 +18,10 @@ bool solve4(double a[4][4], double b[4], double x[4]) {
     int pivot = col;
     for (int r = col + 1; r < 4; ++r)
       if (std::fabs(a[r][col]) > std::fabs(a[pivot][col])) pivot = r;
-    if (std::fabs(a[pivot][col]) <= 1e-14 * scale) return false;
+    // Only an exactly singular system is refused: a nearly flat pentatope has a huge but finite
+    // circumcenter, which the refinement rules need to see (R2 then inserts its projection on
+    // the box, which lies in the circumball and so destroys the pentatope).
+    if (a[pivot][col] == 0) return false;
     std::swap(a[pivot], a[col]);
     std::swap(b[pivot], b[col]);
     for (int r = col + 1; r < 4; ++r) {

@@ -62,6 +62,17 @@ std::pair<double, double> SurfaceOracle::surface_distance_bounds(const Point4& x
 SurfaceOracle::LabelWeights SurfaceOracle::weights_at(const Point4& x) const {
   const Vec4 u = image_.to_index(x);
   const Dims4& d = image_.dims();
+  LabelWeights w;
+  // A cell or more beyond the outer voxel centers (also far away: a nearly flat pentatope's
+  // circumcenter), every corner is outside: background, and no integer overflow below.
+  bool far = false;
+  for (int a = 0; a < 4; ++a) far = far || !(u[a] > -1 && u[a] < static_cast<double>(d[a]));
+  if (far) {
+    w.label[0] = 0;
+    w.weight[0] = 1 + offset(0);
+    w.count = 1;
+    return w;
+  }
   long base[4];
   double frac[4];
   bool interior = true;  // all 16 corners inside the image
@@ -71,7 +82,6 @@ SurfaceOracle::LabelWeights SurfaceOracle::weights_at(const Point4& x) const {
     frac[a] = u[a] - f;
     interior = interior && base[a] >= 0 && base[a] + 1 < static_cast<long>(d[a]);
   }
-  LabelWeights w;
   Label corner_label[16];
   if (interior) {
     // The common case, and most queries fall in a cell of one label: no weights needed.
@@ -160,54 +170,56 @@ double SurfaceOracle::cut_from(const LabelWeights& w, Label a, Label b) const {
 }
 
 SurfacePoint SurfaceOracle::bisect(Point4 a, Point4 b, Label label_a) const {
-  // Keeps a bracket [a, b] of the label change. Each split is where the cut function between
-  // label_a and b's label vanishes on the chord (regula falsi, Illinois variant: ~10 label
-  // evaluations instead of bisection's 80); every third split, and whenever the cut values do
-  // not bracket a root, takes the midpoint instead, so the bracket always shrinks.
+  // Plain halving, on purpose: a secant step (regula falsi) needs ~10 evaluations instead of up
+  // to 80, but lands exactly on the root of the cut function, which is the same for every cell
+  // with the same corner labels; the many exactly co-planar surface points it made gave
+  // numerically flat pentatopes that no rule refines (off-∂Ω boundary vertices, more pinches).
   Label label_b = label_at(b);
-  double fa = cut_value(a, label_a, label_b), fb = cut_value(b, label_a, label_b);
-  int kept = 0;  // +1: a moved last, -1: b moved last (Illinois halves the stale end's value)
-  for (int i = 0; i < 200; ++i) {
-    double s = 0.5;
-    if (i % 3 != 2 && fa > 0 && fb < 0) s = fa / (fa - fb);
-    Point4 m = lerp(a, b, s);
-    if (m == a || m == b) {
-      m = lerp(a, b, 0.5);
-      if (m == a || m == b) break;  // a and b are adjacent doubles
-    }
-    const LabelWeights w = weights_at(m);
-    const Label lm = argmax(w);
+  // 80 halvings take any segment inside the image below the spacing of doubles.
+  for (int i = 0; i < 80; ++i) {
+    const Point4 m = lerp(a, b, 0.5);
+    if (m == a || m == b) break;
+    const Label lm = label_at(m);
     if (lm == label_a) {
       a = m;
-      fa = cut_from(w, label_a, label_b);
-      if (kept == 1) fb *= 0.5;
-      kept = 1;
     } else {
       b = m;
-      if (lm != label_b) {  // a third label: the change to look for is to that one
-        label_b = lm;
-        fa = cut_value(a, label_a, label_b);
-      } else if (kept == -1) {
-        fa *= 0.5;
-      }
-      fb = cut_from(w, label_a, label_b);
-      kept = -1;
+      label_b = lm;
     }
-    if (std::abs(cut_from(w, label_a, label_b)) <= 1e-14) return {m, label_a, label_b};
   }
   return {lerp(a, b, 0.5), label_a, label_b};
 }
 
 std::optional<SurfacePoint> SurfaceOracle::first_crossing(const Point4& a, const Point4& b) const {
   const Label la = label_at(a);
+  // Only the part of the segment within a cell of the voxel centers can see a label change:
+  // beyond, every point is background. Clipping also keeps the walk short when an end is far
+  // away (the circumcenter of a nearly flat pentatope).
+  const Vec4 ua = image_.to_index(a), ub = image_.to_index(b);
+  double t0 = 0, t1 = 1;
+  for (int k = 0; k < 4; ++k) {
+    const double lo = -1, hi = static_cast<double>(image_.dims()[k]), du = ub[k] - ua[k];
+    if (du == 0) {
+      if (!(ua[k] > lo && ua[k] < hi)) return std::nullopt;
+      continue;
+    }
+    double enter = (lo - ua[k]) / du, leave = (hi - ua[k]) / du;
+    if (enter > leave) std::swap(enter, leave);
+    t0 = std::max(t0, enter);
+    t1 = std::min(t1, leave);
+  }
+  if (!(t0 <= t1)) return std::nullopt;
+  const Point4 start = t0 > 0 ? lerp(a, b, t0) : a;
+  const Point4 end = t1 < 1 ? lerp(a, b, t1) : b;
   // Half-voxel steps: in one step the piecewise-multilinear label function can change at most
   // across one cell boundary, so no thin feature is skipped over.
   double min_spacing = image_.spacing()[0];
   for (double s : image_.spacing()) min_spacing = std::min(min_spacing, s);
-  const int steps = std::max(1, static_cast<int>(std::ceil(distance(a, b) / (0.5 * min_spacing))));
-  Point4 previous = a;
+  const int steps =
+      std::max(1, static_cast<int>(std::ceil(distance(start, end) / (0.5 * min_spacing))));
+  Point4 previous = start;
   for (int i = 1; i <= steps; ++i) {
-    const Point4 p = lerp(a, b, double(i) / steps);
+    const Point4 p = lerp(start, end, double(i) / steps);
     if (label_at(p) != la) return bisect(previous, p, la);
     previous = p;
   }
