@@ -109,6 +109,12 @@ SurfaceOracle::LabelWeights SurfaceOracle::weights_at(const Point4& x) const {
       corner_label[corner] = in_image ? image_.at(c[0], c[1], c[2], c[3]) : 0;
     }
   }
+  return weights_in_cell(corner_label, frac);
+}
+
+SurfaceOracle::LabelWeights SurfaceOracle::weights_in_cell(const Label corner_label[16],
+                                                           const double frac[4]) const {
+  LabelWeights w;
   for (int corner = 0; corner < 16; ++corner) {
     double weight = 1;
     for (int a = 0; a < 4; ++a) weight *= (corner >> a) & 1 ? frac[a] : 1 - frac[a];
@@ -171,15 +177,43 @@ double SurfaceOracle::cut_from(const LabelWeights& w, Label a, Label b) const {
 
 SurfacePoint SurfaceOracle::bisect(Point4 a, Point4 b, Label label_a) const {
   // Plain halving, on purpose: a secant step (regula falsi) needs ~10 evaluations instead of up
-  // to 80, but lands exactly on the root of the cut function, which is the same for every cell
-  // with the same corner labels; the many exactly co-planar surface points it made gave
-  // numerically flat pentatopes that no rule refines (off-∂Ω boundary vertices, more pinches).
+  // to 80, but lands exactly on the root of the cut function, the same for every cell with the
+  // same corner labels; its many exactly co-planar surface points gave degenerate pentatopes,
+  // off-∂Ω boundary vertices and more pinches, on the hypersphere and on the patients.
   Label label_b = label_at(b);
+  // Once a and b lie in one interior voxel cell, its corner labels are read once and each
+  // halving only recomputes the weights (the same arithmetic as weights_at, so the same labels).
+  const Dims4& d = image_.dims();
+  Label corner_label[16];
+  double base[4];
+  bool in_cell = false;
   // 80 halvings take any segment inside the image below the spacing of doubles.
   for (int i = 0; i < 80; ++i) {
     const Point4 m = lerp(a, b, 0.5);
     if (m == a || m == b) break;
-    const Label lm = label_at(m);
+    if (!in_cell) {
+      const Vec4 ua = image_.to_index(a), ub = image_.to_index(b);
+      in_cell = true;
+      for (int k = 0; k < 4 && in_cell; ++k) {
+        base[k] = std::floor(ua[k]);
+        in_cell = base[k] == std::floor(ub[k]) && base[k] >= 0 && base[k] + 1 < double(d[k]);
+      }
+      if (in_cell) {
+        const std::size_t first = image_.linear_index(
+            static_cast<std::size_t>(base[0]), static_cast<std::size_t>(base[1]),
+            static_cast<std::size_t>(base[2]), static_cast<std::size_t>(base[3]));
+        for (int corner = 0; corner < 16; ++corner)
+          corner_label[corner] = image_.at(first + corner_offset_[corner]);
+      }
+    }
+    Label lm;
+    if (in_cell) {
+      const Vec4 u = image_.to_index(m);
+      const double frac[4] = {u[0] - base[0], u[1] - base[1], u[2] - base[2], u[3] - base[3]};
+      lm = argmax(weights_in_cell(corner_label, frac));
+    } else {
+      lm = label_at(m);
+    }
     if (lm == label_a) {
       a = m;
     } else {

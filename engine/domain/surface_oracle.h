@@ -79,6 +79,9 @@ class SurfaceOracle {
     int count = 0;
   };
   LabelWeights weights_at(const Point4& x) const;
+  // The weights at fractional position `frac` in a voxel cell with these corner labels (corner
+  // bit k set: the upper neighbor along axis k).
+  LabelWeights weights_in_cell(const Label corner_label[16], const double frac[4]) const;
   Label argmax(const LabelWeights& w) const;
   double cut_from(const LabelWeights& w, Label a, Label b) const;
   SurfacePoint bisect(Point4 a, Point4 b, Label label_a) const;
