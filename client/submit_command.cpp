@@ -26,6 +26,7 @@ struct SubmitOptions {
   std::string params_file;
   double delta = 0, rho = 0, time_scale = 1;
   unsigned threads = 0;
+  unsigned extend_time = 0;
   std::string name, request_id, out;
   bool wait = false;
 };
@@ -56,6 +57,8 @@ void fill_params(const SubmitOptions& o, v1::RefineParams* p) {
         p->set_vertex_budget(value.get<std::uint64_t>());
       else if (key == "threads")
         p->set_threads(value.get<unsigned>());
+      else if (key == "extend_time_frames")
+        p->set_extend_time_frames(value.get<unsigned>());
       else if (key == "rule_order")
         p->set_rule_order(value.get<std::string>() == "paper" ? v1::RULE_ORDER_PAPER
                                                               : v1::RULE_ORDER_R3_FIRST);
@@ -66,6 +69,7 @@ void fill_params(const SubmitOptions& o, v1::RefineParams* p) {
   if (o.delta) p->set_delta(o.delta);
   if (o.rho) p->set_radius_edge_bound(o.rho);
   if (o.threads) p->set_threads(o.threads);
+  if (o.extend_time) p->set_extend_time_frames(o.extend_time);
 }
 
 std::string random_request_id() {
@@ -139,6 +143,10 @@ void setup_submit_command(CLI::App& app, const GlobalOptions& global, int* exit_
       ->check(CLI::PositiveNumber);
   cmd->add_option("--rho", o->rho, "radius-edge bound ρ̄")->check(CLI::PositiveNumber);
   cmd->add_option("--threads", o->threads, "worker threads for this job (capped by the server)");
+  cmd->add_option("--extend-time", o->extend_time,
+                  "repeat the first and last frames N times so that they are meshed faithfully "
+                  "(about delta / time scale; the mesh spans N more frames at each end)")
+      ->check(CLI::Range(0u, 64u));
   cmd->add_option("--time-scale", o->time_scale,
                   "physical units per frame along t (for --frames; overrides a 4D file's)")
       ->check(CLI::PositiveNumber);

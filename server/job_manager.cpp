@@ -7,6 +7,7 @@
 #include <random>
 #include <sstream>
 
+#include "domain/time_extension.h"
 #include "job_log.h"
 #include "job_runner.h"
 #include "proto_convert.h"
@@ -126,6 +127,12 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
   } catch (const refine::ParamError& e) {
     throw ServiceError(ErrorCode::invalid_argument, std::string("params: ") + e.what());
   }
+  if (spec.params().extend_time_frames() > domain::kMaxTimeExtension) {
+    std::ostringstream m;
+    m << "params.extend_time_frames " << spec.params().extend_time_frames() << " is over "
+      << domain::kMaxTimeExtension;
+    throw ServiceError(ErrorCode::invalid_argument, m.str());
+  }
   if (params.vertex_budget > config_.max_vertex_budget) {
     std::ostringstream m;
     m << "params.vertex_budget " << params.vertex_budget << " is over this server's limit of "
@@ -168,6 +175,7 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
   job.set_request_id(spec.request_id());
   *job.mutable_image() = spec.image();
   *job.mutable_params() = to_proto(params, threads);
+  job.mutable_params()->set_extend_time_frames(spec.params().extend_time_frames());
   *job.mutable_created() = TimeUtil::GetCurrentTime();
   for (auto& w : warnings) job.add_warnings(w);
   try {
@@ -387,12 +395,14 @@ void JobManager::run(const std::string& id) {
   Entry* entry;
   v1::ImageHeader header;
   refine::RefineParams params;
+  std::size_t extend_time_frames = 0;
   {
     std::lock_guard lock(mu_);
     entry = &find(id);
     set_state(*entry, v1::JOB_STATE_RUNNING);
     header = entry->job.image();
     params = to_engine(entry->job.params());
+    extend_time_frames = entry->job.params().extend_time_frames();
   }
   log_job(spdlog::level::info, id, "running");
   Sink sink(*this, *entry);
@@ -400,7 +410,7 @@ void JobManager::run(const std::string& id) {
   v1::JobState end = v1::JOB_STATE_FAILED;
   try {
     const std::string input = store_.read_input(id);
-    JobOutcome outcome = run_job(header, params, input, sink);
+    JobOutcome outcome = run_job(header, params, extend_time_frames, input, sink);
     store_.save_result(id, outcome.mesh);
     std::lock_guard lock(mu_);
     *entry->job.mutable_stats() = to_proto(outcome.stats);

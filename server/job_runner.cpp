@@ -27,12 +27,13 @@ class LastProgress final : public refine::ProgressSink {
 }  // namespace
 
 JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& params,
-                   std::string_view input, refine::ProgressSink& sink) {
+                   std::size_t extend_time_frames, std::string_view input,
+                   refine::ProgressSink& sink) {
   JobOutcome out;
   refine::Progress phase;
   phase.phase = refine::Phase::loading;
   sink.on_progress(phase);
-  const domain::LabelImage4 image = decode_upload(header, input, &out.warnings);
+  const domain::LabelImage4 image = decode_upload(header, input, &out.warnings, extend_time_frames);
   if (sink.should_abort()) throw refine::Cancelled();
   phase.phase = refine::Phase::distance_map;
   sink.on_progress(phase);

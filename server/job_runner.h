@@ -21,8 +21,9 @@ struct JobOutcome {
 };
 
 /// Throws refine::Cancelled, refine::BudgetExceeded, ServiceError (bad input) or
-/// std::exception.
+/// std::exception. `extend_time_frames`: see RefineParams.extend_time_frames in the proto.
 JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& params,
-                   std::string_view input, refine::ProgressSink& sink);
+                   std::size_t extend_time_frames, std::string_view input,
+                   refine::ProgressSink& sink);
 
 }  // namespace mesh4d::server

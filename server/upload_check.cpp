@@ -4,6 +4,7 @@
 #include <limits>
 #include <sstream>
 
+#include "domain/time_extension.h"
 #include "mesh/mesh_io.h"
 #include "service_error.h"
 
@@ -64,7 +65,8 @@ std::uint64_t check_header(const v1::ImageHeader& h) {
 }
 
 domain::LabelImage4 decode_upload(const v1::ImageHeader& h, std::string_view data,
-                                  std::vector<std::string>* warnings) {
+                                  std::vector<std::string>* warnings,
+                                  std::size_t extend_time_frames) {
   const std::uint64_t expected = check_header(h);
   if (data.size() != expected) {
     std::ostringstream m;
@@ -80,7 +82,14 @@ domain::LabelImage4 decode_upload(const v1::ImageHeader& h, std::string_view dat
         {h.spacing().x(), h.spacing().y(), h.spacing().z(), h.spacing().t()},
         {h.origin().x(), h.origin().y(), h.origin().z(), h.origin().t()},
         engine_type(h.label_type()), data.data(), data.size());
+    if (extend_time_frames > 0) image = domain::extend_time(image, extend_time_frames);
     auto w = domain::validate_and_close(image);
+    if (extend_time_frames > 0) {
+      std::ostringstream m;
+      m << "the first and last frames were repeated " << extend_time_frames
+        << " times (extend_time_frames): the mesh spans that many more frames at each end";
+      w.push_back(m.str());
+    }
     if (warnings) *warnings = std::move(w);
     return image;
   } catch (const domain::ImageError& e) {

@@ -17,8 +17,10 @@ std::size_t label_bytes(v1::LabelType type);
 std::uint64_t check_header(const v1::ImageHeader& header);
 
 /// The decoded image, closed (validate_and_close) with its warnings: after check_header, checks
-/// the data's size and SHA-256 and the labels themselves.
+/// the data's size and SHA-256 and the labels themselves. With `extend_time_frames`, the end
+/// frames are repeated (domain::extend_time) before the image is closed.
 domain::LabelImage4 decode_upload(const v1::ImageHeader& header, std::string_view data,
-                                  std::vector<std::string>* warnings);
+                                  std::vector<std::string>* warnings,
+                                  std::size_t extend_time_frames = 0);
 
 }  // namespace mesh4d::server

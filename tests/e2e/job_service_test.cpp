@@ -13,6 +13,7 @@
 #include "domain/surface_oracle.h"
 #include "mesh/mesh_check.h"
 #include "mesh/mesh_io.h"
+#include "mesh/mesh_slice.h"
 #include "server_fixture.h"
 
 namespace mesh4d::testing {
@@ -111,6 +112,51 @@ TEST(JobService, SubmitWatchFetchWithTheRealClient) {
   EXPECT_EQ(text.find("mesh4d_insertions_total{rule=\"R1\"} 0"), std::string::npos) << text;
   EXPECT_NE(text.find("mesh4d_insertions_total{rule=\"R1\"}"), std::string::npos) << text;
   EXPECT_EQ(text.find("mesh4d_pentatopes_produced_total 0"), std::string::npos) << text;
+}
+
+// --extend-time repeats the end frames before meshing: the first and last frames' volumes,
+// read from the 4D mesh's cross-sections, come much closer to the voxels' (measured on this
+// phantom: |errors| summed over both labels and both end frames 175 % without, 35 % with).
+TEST(JobService, ExtendedTimeKeepsTheEndFramesFaithful) {
+  const std::string dir = make_temp_dir("mesh4d-extend");
+  RunningServer server(dir + "/data");
+  ASSERT_FALSE(server.address().empty());
+  const auto image = domain::beating_ventricle_phantom({50, 50, 22, 8}, {3.54, 3.54, 12, 2});
+  domain::write_nifti(image, dir + "/ventricle.nii.gz");
+  const auto& d = image.dims();
+  const auto& s = image.spacing();
+  auto end_frame_error = [&](const mesh::Mesh4& m) {
+    double sum = 0;
+    for (std::size_t t : {std::size_t{0}, d[3] - 1}) {
+      double voxels[3] = {0, 0, 0};
+      for (std::size_t z = 0; z < d[2]; ++z)
+        for (std::size_t y = 0; y < d[1]; ++y)
+          for (std::size_t x = 0; x < d[0]; ++x) voxels[image.at(x, y, z, t)] += s[0] * s[1] * s[2];
+      const auto v = mesh::slice_volumes(m, image.voxel_center(0, 0, 0, t)[3]);
+      for (mesh::Label l : {1, 2})
+        sum += std::abs((v.count(l) ? v.at(l) : 0) - voxels[l]) / voxels[l];
+    }
+    return sum;
+  };
+  std::vector<mesh::Mesh4> meshes;
+  for (const char* frames : {"0", "4"}) {
+    const std::string out = dir + "/extend" + frames + ".m4d";
+    const RunResult r = run_command(
+        {MESH4D_CLIENT_BIN, "--server", server.address(), "submit", dir + "/ventricle.nii.gz",
+         "--delta", "8", "--extend-time", frames, "--wait", "--out", out},
+        std::chrono::seconds(120));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(r.output.find("extend_time_frames") != std::string::npos, frames[0] != '0')
+        << r.output;
+    meshes.push_back(mesh::read_m4d(out));
+  }
+  double earliest = 1e300;
+  for (const auto& p : meshes[1].vertices) earliest = std::min(earliest, p[3]);
+  EXPECT_LT(earliest, image.voxel_center(0, 0, 0, 0)[3] - 3 * s[3]) << "the mesh spans more time";
+  const double without = end_frame_error(meshes[0]), with = end_frame_error(meshes[1]);
+  std::printf("end-frame volume errors, summed: %.2f without, %.2f with 4 repeated frames\n",
+              without, with);
+  EXPECT_LT(with, 0.5 * without);
 }
 
 TEST(JobService, KilledServerResumesItsJobAndKeepsEarlierResults) {
