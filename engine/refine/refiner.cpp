@@ -98,6 +98,7 @@ void Refiner::update_info(CellId c) {
 }
 
 void Refiner::admit(const std::vector<CellId>& cells) {
+  if (tracking_) touched_.insert(touched_.end(), cells.begin(), cells.end());
   for (CellId c : cells) update_info(c);
   for (CellId c : cells) enqueue(c);
 }

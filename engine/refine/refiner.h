@@ -84,9 +84,18 @@ class Refiner {
   // `min_spacing` to a feature vertex; returns how many.
   std::size_t repair_pinches(double min_spacing);
   struct PinchedTriangle {
+    std::array<mesh4d::VertexId, 3> triangle;              // sorted
     std::vector<std::pair<delaunay::CellId, int>> facets;  // (pentatope, facet index)
   };
+  // Every pinch, from a scan of the whole triangulation.
   std::size_t count_pinches(std::vector<PinchedTriangle>* pinched) const;
+  // The same count after a full one, from the triangles that can have changed: those of
+  // region-boundary facets of pentatopes made since (touched_), and the pinches known then.
+  std::size_t recount_pinches(std::vector<PinchedTriangle>* pinched);
+  // Adds the pinches at triangle t (one per region) found by walking the cycle of pentatopes
+  // around it from `start`, which must contain it.
+  void pinches_at(delaunay::CellId start, const std::array<mesh4d::VertexId, 3>& t,
+                  std::vector<PinchedTriangle>* pinched) const;
   bool insert_and_admit(const Point4& p, delaunay::VertexKind kind, delaunay::CellId hint,
                         int rule);
   void report(ProgressSink* sink, Phase phase, bool force);
@@ -99,6 +108,9 @@ class Refiner {
   std::array<Point4, 2> box_;
   std::array<std::vector<Candidate>, kNone> queues_;  // one stack per rule
   FeatureIndex features_;
+  bool tracking_ = false;                       // admit() records new pentatopes in touched_
+  std::vector<delaunay::CellId> touched_;       // since the last pinch count
+  std::vector<PinchedTriangle> known_pinches_;  // found by the last pinch count
   std::mt19937_64 rng_;       // of the picking regions, seeded by RefineParams::seed
   delaunay::Cavity scratch_;  // trial cavities of the picking regions
   Progress progress_;

@@ -86,6 +86,7 @@ std::size_t Refiner::count_pinches(std::vector<PinchedTriangle>* pinched) const 
       if (slot.count <= 2) continue;
       if (slot.pinch == 0) {
         pinched->emplace_back();
+        pinched->back().triangle = {r.key[1], r.key[2], r.key[3]};
         slot.pinch = static_cast<std::uint32_t>(pinched->size());
       }
       (*pinched)[slot.pinch - 1].facets.emplace_back(r.cell, r.facet);
@@ -94,9 +95,135 @@ std::size_t Refiner::count_pinches(std::vector<PinchedTriangle>* pinched) const 
   return pinches;
 }
 
+void Refiner::pinches_at(CellId start, const std::array<VertexId, 3>& t,
+                         std::vector<PinchedTriangle>* pinched) const {
+  // The link of a triangle in a 4D triangulation is a circle: each pentatope around it has two
+  // facets through it (opposite its two other vertices), one shared with each neighbor on the
+  // cycle. Crossing, each time, the facet opposite the other vertex shared with the previous
+  // pentatope walks the cycle; a region's boundary facets at t are its label changes along it.
+  const auto& st = tri_.store();
+  const auto in_t = [&](VertexId v) { return v == t[0] || v == t[1] || v == t[2]; };
+  const auto label_of = [&](CellId c) -> domain::Label {
+    return st.is_infinite(c) || !info_[c].finite ? 0 : info_[c].label;
+  };
+  std::vector<CellId> cycle;
+  std::vector<int> crossed;  // facet of cycle[i] shared with cycle[i + 1]
+  CellId cur = start;
+  VertexId cross = delaunay::kNoVertex;
+  for (int k = 0; k < 5; ++k)
+    if (!in_t(st.cell(cur).v[k])) {
+      cross = st.cell(cur).v[k];
+      break;
+    }
+  for (int guard = 0; guard < 100000; ++guard) {
+    const auto& cell = st.cell(cur);
+    int i = 0, other = -1;
+    for (int k = 0; k < 5; ++k) {
+      if (cell.v[k] == cross)
+        i = k;
+      else if (!in_t(cell.v[k]))
+        other = k;
+    }
+    cycle.push_back(cur);
+    crossed.push_back(i);
+    cross = cell.v[other];
+    cur = cell.n[i];
+    if (cur == start) break;
+  }
+  std::vector<domain::Label> labels;
+  for (CellId c : cycle)
+    if (const domain::Label l = label_of(c);
+        l != 0 && std::find(labels.begin(), labels.end(), l) == labels.end())
+      labels.push_back(l);
+  const std::size_t n = cycle.size();
+  for (const domain::Label l : labels) {
+    PinchedTriangle p{t, {}};
+    for (std::size_t i = 0; i < n; ++i) {
+      const CellId a = cycle[i], b = cycle[(i + 1) % n];
+      if ((label_of(a) == l) == (label_of(b) == l)) continue;
+      if (label_of(a) == l) {
+        p.facets.emplace_back(a, crossed[i]);
+      } else {
+        int back = 0;
+        while (st.cell(b).n[back] != a) ++back;
+        p.facets.emplace_back(b, back);
+      }
+    }
+    if (p.facets.size() > 2) pinched->push_back(std::move(p));
+  }
+}
+
+std::size_t Refiner::recount_pinches(std::vector<PinchedTriangle>* pinched) {
+  // Candidate triangles with a live pentatope through each.
+  const auto& st = tri_.store();
+  std::vector<std::pair<std::array<VertexId, 3>, CellId>> candidates;
+  for (CellId c : touched_) {
+    if (!st.is_live(c) || st.is_infinite(c)) continue;
+    const auto& cell = st.cell(c);
+    const domain::Label own = info_[c].finite ? info_[c].label : 0;
+    for (int i = 0; i < 5; ++i) {
+      const CellId nb = cell.n[i];
+      const domain::Label other = st.is_infinite(nb) || !info_[nb].finite ? 0 : info_[nb].label;
+      if (other == own) continue;
+      std::array<VertexId, 4> facet;
+      for (int k = 0, m = 0; k < 5; ++k)
+        if (k != i) facet[m++] = cell.v[k];
+      std::sort(facet.begin(), facet.end());
+      for (int skip = 0; skip < 4; ++skip) {
+        std::array<VertexId, 3> t;
+        for (int k = 0, m = 0; k < 4; ++k)
+          if (k != skip) t[m++] = facet[k];
+        candidates.emplace_back(t, c);
+      }
+    }
+  }
+  std::vector<CellId> star;
+  for (const PinchedTriangle& p : known_pinches_) {
+    // A pentatope of the old pinch may be gone; any live one through the triangle will do.
+    CellId through = delaunay::kNoCell;
+    for (const auto& [c, i] : p.facets)
+      if (st.is_live(c) && !st.is_infinite(c)) {
+        int found = 0;
+        for (VertexId v : st.cell(c).v)
+          found += v == p.triangle[0] || v == p.triangle[1] || v == p.triangle[2];
+        if (found == 3) {
+          through = c;
+          break;
+        }
+      }
+    bool alive = true;
+    for (VertexId v : p.triangle) alive = alive && st.vertex(v).kind != VertexKind::removed;
+    if (through == delaunay::kNoCell && alive) {
+      tri_.incident_cells(p.triangle[0], star);
+      for (CellId c : star) {
+        int found = 0;
+        for (VertexId v : st.cell(c).v) found += v == p.triangle[1] || v == p.triangle[2];
+        if (found == 2) {
+          through = c;
+          break;
+        }
+      }
+    }
+    if (through != delaunay::kNoCell) candidates.emplace_back(p.triangle, through);
+  }
+  std::sort(candidates.begin(), candidates.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  const std::size_t before = pinched->size();
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    if (i > 0 && candidates[i].first == candidates[i - 1].first) continue;
+    pinches_at(candidates[i].second, candidates[i].first, pinched);
+  }
+  return pinched->size() - before;
+}
+
 std::size_t Refiner::repair_pinches(double min_spacing) {
   std::vector<PinchedTriangle> pinched;
-  if (count_pinches(&pinched) == 0) return 0;
+  // The first count scans everything; later ones look only where pentatopes changed.
+  const std::size_t found = tracking_ ? recount_pinches(&pinched) : count_pinches(&pinched);
+  tracking_ = true;
+  touched_.clear();
+  known_pinches_ = pinched;
+  if (found == 0) return 0;
   // Per pinched triangle, the surface center of its largest restricted facet (the one the
   // rules left coarsest); all are found before any goes in, as cells die with insertions.
   std::vector<std::pair<Point4, CellId>> points;
