@@ -149,7 +149,13 @@ Label SurfaceOracle::label_at(const Point4& x) const {
 }
 
 double SurfaceOracle::cut_value(const Point4& x, Label a, Label b) const {
-  return cut_from(weights_at(x), a, b);
+  const LabelWeights w = weights_at(x);
+  double ia = offset(a), ib = offset(b);  // an absent label keeps its offset
+  for (int k = 0; k < w.count; ++k) {
+    if (w.label[k] == a) ia = w.weight[k];
+    if (w.label[k] == b) ib = w.weight[k];
+  }
+  return ia - ib;
 }
 
 Vec4 SurfaceOracle::cut_gradient(const Point4& x, Label a, Label b) const {
@@ -164,15 +170,6 @@ Vec4 SurfaceOracle::cut_gradient(const Point4& x, Label a, Label b) const {
     g[axis] = (cut_value(p, a, b) - cut_value(m, a, b)) / (2 * h);
   }
   return g;
-}
-
-double SurfaceOracle::cut_from(const LabelWeights& w, Label a, Label b) const {
-  double ia = offset(a), ib = offset(b);  // an absent label keeps its offset
-  for (int k = 0; k < w.count; ++k) {
-    if (w.label[k] == a) ia = w.weight[k];
-    if (w.label[k] == b) ib = w.weight[k];
-  }
-  return ia - ib;
 }
 
 SurfacePoint SurfaceOracle::bisect(Point4 a, Point4 b, Label label_a) const {

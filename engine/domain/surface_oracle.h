@@ -83,7 +83,6 @@ class SurfaceOracle {
   // bit k set: the upper neighbor along axis k).
   LabelWeights weights_in_cell(const Label corner_label[16], const double frac[4]) const;
   Label argmax(const LabelWeights& w) const;
-  double cut_from(const LabelWeights& w, Label a, Label b) const;
   SurfacePoint bisect(Point4 a, Point4 b, Label label_a) const;
   std::optional<SurfacePoint> project_along(const Point4& seed, const Vec4& normal) const;
   void refine_towards(const Point4& x, SurfacePoint& z) const;
