@@ -29,6 +29,7 @@ SurfaceOracle::SurfaceOracle(const LabelImage4& image)
     throw ImageError("image has a single label everywhere: there is no surface to mesh");
   const Vec4& s = image.spacing();
   voxel_size_ = std::max(std::max(s[0], s[1]), std::max(s[2], s[3]));
+  min_spacing_ = std::min(std::min(s[0], s[1]), std::min(s[2], s[3]));
   cell_diagonal_ = norm(s);
   // β by rank among the labels present (background first): 0 for the lowest, kMaxLabelOffset
   // for the highest.
@@ -109,26 +110,34 @@ SurfaceOracle::LabelWeights SurfaceOracle::weights_at(const Point4& x) const {
       corner_label[corner] = in_image ? image_.at(c[0], c[1], c[2], c[3]) : 0;
     }
   }
-  return weights_in_cell(corner_label, frac);
+  return weights_in_cell(cell_labels(corner_label), frac);
 }
 
-SurfaceOracle::LabelWeights SurfaceOracle::weights_in_cell(const Label corner_label[16],
-                                                           const double frac[4]) const {
-  LabelWeights w;
+SurfaceOracle::CellLabels SurfaceOracle::cell_labels(const Label corner_label[16]) {
+  CellLabels cell;
   for (int corner = 0; corner < 16; ++corner) {
-    double weight = 1;
-    for (int a = 0; a < 4; ++a) weight *= (corner >> a) & 1 ? frac[a] : 1 - frac[a];
-    if (weight == 0) continue;
     const Label l = corner_label[corner];
     int k = 0;
-    while (k < w.count && w.label[k] != l) ++k;
-    if (k == w.count) {
-      w.label[k] = l;
-      w.weight[k] = 0;
-      ++w.count;
-    }
-    w.weight[k] += weight;
+    while (k < cell.count && cell.label[k] != l) ++k;
+    if (k == cell.count) cell.label[cell.count++] = l;
+    cell.slot[corner] = static_cast<std::uint8_t>(k);
   }
+  return cell;
+}
+
+SurfaceOracle::LabelWeights SurfaceOracle::weights_in_cell(const CellLabels& cell,
+                                                           const double frac[4]) const {
+  // Corner weights as products of the (x, y) and (z, t) pairs: 24 products instead of 48. A
+  // label whose corners all weigh 0 keeps weight 0 (plus its offset): it never wins, as the
+  // weights sum to 1 and no offset reaches 1/16.
+  const double g[4] = {1 - frac[0], 1 - frac[1], 1 - frac[2], 1 - frac[3]};
+  const double xy[4] = {g[0] * g[1], frac[0] * g[1], g[0] * frac[1], frac[0] * frac[1]};
+  const double zt[4] = {g[2] * g[3], frac[2] * g[3], g[2] * frac[3], frac[2] * frac[3]};
+  LabelWeights w;
+  w.count = cell.count;
+  for (int k = 0; k < cell.count; ++k) w.label[k] = cell.label[k], w.weight[k] = 0;
+  for (int corner = 0; corner < 16; ++corner)
+    w.weight[cell.slot[corner]] += xy[corner & 3] * zt[corner >> 2];
   for (int k = 0; k < w.count; ++k) w.weight[k] += offset(w.label[k]);
   return w;
 }
@@ -181,13 +190,19 @@ SurfacePoint SurfaceOracle::bisect(Point4 a, Point4 b, Label label_a) const {
   // Once a and b lie in one interior voxel cell, its corner labels are read once and each
   // halving only recomputes the weights (the same arithmetic as weights_at, so the same labels).
   const Dims4& d = image_.dims();
-  Label corner_label[16];
+  CellLabels cell;
   double base[4];
   bool in_cell = false;
-  // 80 halvings take any segment inside the image below the spacing of doubles.
+  // Halving stops at 1e-11 of the smallest spacing, where |f| ≤ 2e-11 (f changes by at most 2
+  // per voxel along any axis), or below the spacing of doubles; 80 halvings take any segment
+  // inside the image that far.
+  const double tolerance2 = 1e-22 * min_spacing_ * min_spacing_;
   for (int i = 0; i < 80; ++i) {
     const Point4 m = lerp(a, b, 0.5);
     if (m == a || m == b) break;
+    double length2 = 0;
+    for (int k = 0; k < 4; ++k) length2 += (b[k] - a[k]) * (b[k] - a[k]);
+    if (length2 < tolerance2) break;
     if (!in_cell) {
       const Vec4 ua = image_.to_index(a), ub = image_.to_index(b);
       in_cell = true;
@@ -199,15 +214,17 @@ SurfacePoint SurfaceOracle::bisect(Point4 a, Point4 b, Label label_a) const {
         const std::size_t first = image_.linear_index(
             static_cast<std::size_t>(base[0]), static_cast<std::size_t>(base[1]),
             static_cast<std::size_t>(base[2]), static_cast<std::size_t>(base[3]));
+        Label corner_label[16];
         for (int corner = 0; corner < 16; ++corner)
           corner_label[corner] = image_.at(first + corner_offset_[corner]);
+        cell = cell_labels(corner_label);
       }
     }
     Label lm;
     if (in_cell) {
       const Vec4 u = image_.to_index(m);
       const double frac[4] = {u[0] - base[0], u[1] - base[1], u[2] - base[2], u[3] - base[3]};
-      lm = argmax(weights_in_cell(corner_label, frac));
+      lm = argmax(weights_in_cell(cell, frac));
     } else {
       lm = label_at(m);
     }
@@ -244,10 +261,8 @@ std::optional<SurfacePoint> SurfaceOracle::first_crossing(const Point4& a, const
   const Point4 end = t1 < 1 ? lerp(a, b, t1) : b;
   // Half-voxel steps: in one step the piecewise-multilinear label function can change at most
   // across one cell boundary, so no thin feature is skipped over.
-  double min_spacing = image_.spacing()[0];
-  for (double s : image_.spacing()) min_spacing = std::min(min_spacing, s);
   const int steps =
-      std::max(1, static_cast<int>(std::ceil(distance(start, end) / (0.5 * min_spacing))));
+      std::max(1, static_cast<int>(std::ceil(distance(start, end) / (0.5 * min_spacing_))));
   Point4 previous = start;
   for (int i = 1; i <= steps; ++i) {
     const Point4 p = lerp(start, end, double(i) / steps);

@@ -78,10 +78,18 @@ class SurfaceOracle {
     double weight[16];
     int count = 0;
   };
+  // The distinct labels at a voxel cell's 16 corners (corner bit k set: the upper neighbor
+  // along axis k), and which of them each corner has: read once per cell, then each point in
+  // the cell costs only its 16 multilinear weights.
+  struct CellLabels {
+    Label label[16];
+    std::uint8_t slot[16];  // corner -> index in label
+    int count = 0;
+  };
+  static CellLabels cell_labels(const Label corner_label[16]);
   LabelWeights weights_at(const Point4& x) const;
-  // The weights at fractional position `frac` in a voxel cell with these corner labels (corner
-  // bit k set: the upper neighbor along axis k).
-  LabelWeights weights_in_cell(const Label corner_label[16], const double frac[4]) const;
+  // The weights at fractional position `frac` in a voxel cell with these labels.
+  LabelWeights weights_in_cell(const CellLabels& cell, const double frac[4]) const;
   Label argmax(const LabelWeights& w) const;
   SurfacePoint bisect(Point4 a, Point4 b, Label label_a) const;
   std::optional<SurfacePoint> project_along(const Point4& seed, const Vec4& normal) const;
@@ -94,6 +102,7 @@ class SurfaceOracle {
   std::vector<double> offset_;     // β by label value
   std::size_t corner_offset_[16];  // linear index of each of a cell's corners from its first
   double voxel_size_;              // the largest spacing: the scale of search steps
+  double min_spacing_;             // the smallest: the step of first_crossing's walk
   double cell_diagonal_;           // of the hypercube between 16 voxel centers
 };
 

@@ -19,13 +19,6 @@ namespace {
 constexpr auto kReportInterval = std::chrono::milliseconds(200);
 constexpr int kRepairRounds = 40;  // of pinch repair, each followed by the rules
 
-delaunay::Simplex4 simplex_of(const delaunay::Triangulation& t, CellId c) {
-  delaunay::Simplex4 s;
-  const auto& cell = t.store().cell(c);
-  for (int i = 0; i < 5; ++i) s[i] = t.store().point(cell.v[i]);
-  return s;
-}
-
 double distance(const Point4& a, const Point4& b) {
   double d = 0;
   for (int i = 0; i < 4; ++i) d += (a[i] - b[i]) * (a[i] - b[i]);
@@ -89,7 +82,7 @@ void Refiner::update_info(CellId c) {
   CellInfo& info = info_[c];
   info.finite = false;
   if (tri_.store().is_infinite(c)) return;
-  const auto s = simplex_of(tri_, c);
+  const auto s = simplex_of(c);
   info.center = delaunay::circumcenter(s);
   if (!std::isfinite(info.center[0])) return;
   info.radius = distance(info.center, s[0]);
@@ -122,7 +115,7 @@ bool Refiner::has_restricted_non_feature_facet(CellId c) const {
 Refiner::Rule Refiner::quick_rule(CellId c) const {
   const CellInfo& info = info_[c];
   if (!info.finite) return kNone;
-  const auto s = simplex_of(tri_, c);
+  const auto s = simplex_of(c);
   const double r = info.radius;
   const bool inside = info.label != 0;
   const double rho = r / delaunay::shortest_edge(s);
@@ -139,7 +132,7 @@ Refiner::Rule Refiner::quick_rule(CellId c) const {
 Refiner::Rule Refiner::classify(CellId c, Point4* point, VertexKind* kind) {
   const CellInfo& info = info_[c];
   if (!info.finite) return kNone;
-  const auto s = simplex_of(tri_, c);
+  const auto s = simplex_of(c);
   const Point4 center = info.center;
   const double r = info.radius;
   const bool inside = info.label != 0;
@@ -214,7 +207,7 @@ double Refiner::worst_new_quality(const Point4& p, CellId hint) {
   double worst = 1;
   for (const auto& f : scratch_.boundary) {
     if (tri_.store().is_infinite(f.cell)) continue;
-    delaunay::Simplex4 s = simplex_of(tri_, f.cell);
+    delaunay::Simplex4 s = simplex_of(f.cell);
     s[f.index] = p;
     worst = std::min(worst, delaunay::normalized_volume(s));
   }
@@ -395,6 +388,7 @@ RefineResult Refiner::run(ProgressSink* sink) {
 
   report(sink, Phase::extracting, true);
   RefineResult result;
+  result.relabeled = relabel_pinches();
   result.mesh = extract(result.warnings);
   if (const std::size_t pinches = count_pinches(nullptr)) {
     std::ostringstream s;

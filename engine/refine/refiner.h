@@ -5,7 +5,9 @@
 // for R4 and R5 measure the cavity of each trial point before choosing. Each pentatope's
 // circumball and label are computed once, when it is made (CellInfo). Where labels meet, the
 // paper's guarantee (for one label) does not hold: a bounded pinch repair (refiner_junctions.cpp)
-// samples ∂Ω where a region's boundary is not a manifold. Not yet fast enough (issue 5's target).
+// samples ∂Ω where a region's boundary is not a manifold, and what it leaves is closed by moving
+// a few pentatopes whose vertices all lie on ∂Ω to a neighboring label (refiner_relabel.cpp).
+// Not yet fast enough (issue 5's target).
 #pragma once
 
 #include <chrono>
@@ -13,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "delaunay/geometry.h"
 #include "delaunay/triangulation.h"
 #include "domain/surface_oracle.h"
 #include "mesh/mesh4.h"
@@ -27,6 +30,9 @@ struct RefineResult {
   mesh::Mesh4 mesh;
   mesh::MeshStats stats;
   std::vector<std::string> warnings;
+  // Pentatopes given a neighbor's label to close a pinch (refiner_relabel.cpp): their
+  // circumcenter lies in another label, within their small circumball of the junction.
+  std::size_t relabeled = 0;
 };
 
 class Refiner {
@@ -57,6 +63,11 @@ class Refiner {
     bool finite = false;  // false for infinite or flat pentatopes
   };
 
+  delaunay::Simplex4 simplex_of(delaunay::CellId c) const {
+    delaunay::Simplex4 s;
+    for (int i = 0; i < 5; ++i) s[i] = tri_.store().point(tri_.store().cell(c).v[i]);
+    return s;
+  }
   void insert_box();
   // Feature vertices on every triple junction, RefineParams::junction_spacing · Δ apart.
   void insert_junctions();
@@ -92,6 +103,30 @@ class Refiner {
   // The same count after a full one, from the triangles that can have changed: those of
   // region-boundary facets of pentatopes made since (touched_), and the pinches known then.
   std::size_t recount_pinches(std::vector<PinchedTriangle>* pinched);
+  // The pentatopes around triangle t, in order, from `start` (which must contain t), and for
+  // each the index of its facet shared with the next.
+  void link_cycle(delaunay::CellId start, const std::array<mesh4d::VertexId, 3>& t,
+                  std::vector<delaunay::CellId>& cycle, std::vector<int>& crossed) const;
+  // The label a pentatope has in the output (0: not output).
+  domain::Label output_label(delaunay::CellId c) const {
+    return tri_.store().is_infinite(c) || !info_[c].finite ? 0 : info_[c].label;
+  }
+  // Closes the pinches the repair left by moving a few pentatopes, all of whose vertices lie on
+  // ∂Ω, to a neighboring label (refiner_relabel.cpp); returns how many pentatopes moved.
+  std::size_t relabel_pinches();
+  struct Move {
+    delaunay::CellId cell;
+    domain::Label to;
+  };
+  // The ways to join every label's arcs around a pinched triangle.
+  std::vector<std::vector<Move>> relabel_options(const PinchedTriangle& p) const;
+  // How many pinches the moves remove (negative: add); the least long when one is not allowed.
+  long relabel_gain(const std::vector<Move>& moves);
+  bool movable(delaunay::CellId c, domain::Label from) const;
+  std::vector<domain::Label> apply(const std::vector<Move>& moves);  // returns the old labels
+  void undo(const std::vector<Move>& moves, const std::vector<domain::Label>& before);
+  // The pinches on the triangles of these pentatopes.
+  std::vector<PinchedTriangle> pinches_on(const std::vector<delaunay::CellId>& cells) const;
   // Adds the pinches at triangle t (one per region) found by walking the cycle of pentatopes
   // around it from `start`, which must contain it.
   void pinches_at(delaunay::CellId start, const std::array<mesh4d::VertexId, 3>& t,

@@ -95,19 +95,16 @@ std::size_t Refiner::count_pinches(std::vector<PinchedTriangle>* pinched) const 
   return pinches;
 }
 
-void Refiner::pinches_at(CellId start, const std::array<VertexId, 3>& t,
-                         std::vector<PinchedTriangle>* pinched) const {
+void Refiner::link_cycle(CellId start, const std::array<VertexId, 3>& t, std::vector<CellId>& cycle,
+                         std::vector<int>& crossed) const {
   // The link of a triangle in a 4D triangulation is a circle: each pentatope around it has two
   // facets through it (opposite its two other vertices), one shared with each neighbor on the
   // cycle. Crossing, each time, the facet opposite the other vertex shared with the previous
-  // pentatope walks the cycle; a region's boundary facets at t are its label changes along it.
+  // pentatope walks the cycle.
   const auto& st = tri_.store();
   const auto in_t = [&](VertexId v) { return v == t[0] || v == t[1] || v == t[2]; };
-  const auto label_of = [&](CellId c) -> domain::Label {
-    return st.is_infinite(c) || !info_[c].finite ? 0 : info_[c].label;
-  };
-  std::vector<CellId> cycle;
-  std::vector<int> crossed;  // facet of cycle[i] shared with cycle[i + 1]
+  cycle.clear();
+  crossed.clear();
   CellId cur = start;
   VertexId cross = delaunay::kNoVertex;
   for (int k = 0; k < 5; ++k)
@@ -130,6 +127,16 @@ void Refiner::pinches_at(CellId start, const std::array<VertexId, 3>& t,
     cur = cell.n[i];
     if (cur == start) break;
   }
+}
+
+void Refiner::pinches_at(CellId start, const std::array<VertexId, 3>& t,
+                         std::vector<PinchedTriangle>* pinched) const {
+  // A region's boundary facets at t are its label changes along the cycle around t.
+  const auto& st = tri_.store();
+  std::vector<CellId> cycle;
+  std::vector<int> crossed;  // facet of cycle[i] shared with cycle[i + 1]
+  link_cycle(start, t, cycle, crossed);
+  const auto label_of = [&](CellId c) { return output_label(c); };
   std::vector<domain::Label> labels;
   for (CellId c : cycle)
     if (const domain::Label l = label_of(c);

@@ -1,0 +1,244 @@
+// Closing the pinches that the repair (refiner_junctions.cpp) leaves, by relabeling.
+//
+// Around a triangle t the pentatopes form a cycle; a label's region is pinched at t when it
+// occupies two or more separate arcs of that cycle. Where three labels meet at a sharp junction
+// (the time caps, the valve plane), inserting more surface points there does not converge: each
+// new point makes new small pentatopes whose circumcenters again fall on alternating sides.
+// Moving the pentatopes of the shorter arcs (or of the gaps between them) to a neighboring label
+// joins the arcs. Only pentatopes whose five vertices all lie on ∂Ω move, so every new boundary
+// tetrahedron still has its vertices on ∂Ω; the triangulation itself does not change. Such a
+// pentatope's circumcenter is within its small circumball of the junction, so the label it gets
+// is one that is present there.
+#include <algorithm>
+#include <array>
+#include <limits>
+#include <vector>
+
+#include "delaunay/geometry.h"
+#include "refine/refiner.h"
+
+namespace mesh4d::refine {
+namespace {
+
+using delaunay::CellId;
+using domain::Label;
+
+constexpr int kRelabelRounds = 16;
+constexpr long kNotAllowed = std::numeric_limits<long>::min();
+
+// A maximal run of consecutive positions (cyclic) whose labels are L (or are not L).
+struct Arc {
+  std::size_t begin;
+  std::size_t length;
+};
+
+std::vector<Arc> arcs(const std::vector<Label>& labels, Label l, bool of_l) {
+  const std::size_t n = labels.size();
+  std::vector<Arc> out;
+  // Start right after a position of the other kind, so that no run wraps around the start.
+  std::size_t first = n;
+  for (std::size_t i = 0; i < n; ++i)
+    if ((labels[i] == l) != of_l) {
+      first = (i + 1) % n;
+      break;
+    }
+  if (first == n) return {{0, n}};  // the whole cycle is of that kind
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t i = (first + k) % n;
+    if ((labels[i] == l) != of_l) continue;
+    if (!out.empty() && out.back().begin + out.back().length == first + k)
+      ++out.back().length;
+    else
+      out.push_back({first + k, 1});
+  }
+  for (Arc& a : out) a.begin %= n;
+  return out;
+}
+
+// How many output labels (not background) occupy two or more arcs of the cycle.
+int split_labels(const std::vector<Label>& labels) {
+  std::vector<Label> seen;
+  for (Label l : labels)
+    if (l != 0 && std::find(seen.begin(), seen.end(), l) == seen.end()) seen.push_back(l);
+  int split = 0;
+  for (Label l : seen) split += arcs(labels, l, true).size() > 1;
+  return split;
+}
+
+// A relabeling of some positions of the cycle.
+struct Option {
+  std::vector<std::pair<std::size_t, Label>> moves;
+};
+
+// The ways to join label l's arcs: fill every gap but the longest with l, or give every arc of l
+// but the longest the label before it (or after it).
+std::vector<Option> options_for(const std::vector<Label>& labels, Label l) {
+  const std::size_t n = labels.size();
+  std::vector<Option> out;
+  const auto all_but_longest = [](std::vector<Arc> runs) {
+    std::iter_swap(runs.begin(),
+                   std::max_element(runs.begin(), runs.end(), [](const Arc& a, const Arc& b) {
+                     return a.length < b.length;
+                   }));
+    runs.erase(runs.begin());
+    return runs;
+  };
+  Option fill;
+  for (const Arc& gap : all_but_longest(arcs(labels, l, false)))
+    for (std::size_t k = 0; k < gap.length; ++k) fill.moves.emplace_back((gap.begin + k) % n, l);
+  out.push_back(std::move(fill));
+  for (int side = 0; side < 2; ++side) {
+    Option cut;
+    for (const Arc& arc : all_but_longest(arcs(labels, l, true))) {
+      const Label next =
+          side == 0 ? labels[(arc.begin + n - 1) % n] : labels[(arc.begin + arc.length) % n];
+      for (std::size_t k = 0; k < arc.length; ++k)
+        cut.moves.emplace_back((arc.begin + k) % n, next);
+    }
+    out.push_back(std::move(cut));
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Refiner::PinchedTriangle> Refiner::pinches_on(const std::vector<CellId>& cells) const {
+  std::vector<std::pair<std::array<mesh4d::VertexId, 3>, CellId>> triangles;
+  for (CellId c : cells) {
+    std::array<mesh4d::VertexId, 5> v;
+    std::copy_n(tri_.store().cell(c).v, 5, v.begin());
+    std::sort(v.begin(), v.end());
+    for (int a = 0; a < 5; ++a)
+      for (int b = a + 1; b < 5; ++b)
+        for (int d = b + 1; d < 5; ++d) triangles.push_back({{v[a], v[b], v[d]}, c});
+  }
+  std::sort(triangles.begin(), triangles.end());
+  std::vector<PinchedTriangle> pinched;
+  for (std::size_t i = 0; i < triangles.size(); ++i)
+    if (i == 0 || triangles[i].first != triangles[i - 1].first)
+      pinches_at(triangles[i].second, triangles[i].first, &pinched);
+  return pinched;
+}
+
+std::vector<std::vector<Refiner::Move>> Refiner::relabel_options(const PinchedTriangle& p) const {
+  std::vector<CellId> cycle;
+  std::vector<int> crossed;
+  link_cycle(p.facets.front().first, p.triangle, cycle, crossed);
+  std::vector<Label> labels(cycle.size());
+  for (std::size_t i = 0; i < cycle.size(); ++i) labels[i] = output_label(cycle[i]);
+  std::vector<std::vector<Move>> out;
+  std::vector<Label> seen;
+  for (Label l : labels) {
+    if (l == 0 || std::find(seen.begin(), seen.end(), l) != seen.end()) continue;
+    seen.push_back(l);
+    if (arcs(labels, l, true).size() < 2) continue;
+    for (const Option& o : options_for(labels, l)) {
+      if (o.moves.empty()) continue;
+      std::vector<Label> after = labels;
+      for (const auto& [i, to] : o.moves) after[i] = to;
+      if (split_labels(after) != 0) continue;  // must join every label around t
+      std::vector<Move> moves;
+      for (const auto& [i, to] : o.moves) moves.push_back({cycle[i], to});
+      out.push_back(std::move(moves));
+    }
+  }
+  return out;
+}
+
+bool Refiner::movable(CellId c, Label from) const {
+  // With the move applied: each facet of c that separates two labels has its four vertices on
+  // ∂Ω, and a pentatope that enters the output (from the background) meets the quality bounds
+  // that R3 and R4 hold inside.
+  const auto& st = tri_.store();
+  if (st.is_infinite(c) || !info_[c].finite) return false;
+  const auto& cell = st.cell(c);
+  for (int i = 0; i < 5; ++i) {
+    if (output_label(cell.n[i]) == info_[c].label) continue;
+    for (int k = 0; k < 5; ++k)
+      if (k != i && st.vertex(cell.v[k]).kind != delaunay::VertexKind::feature) return false;
+  }
+  if (from != 0 || info_[c].label == 0) return true;
+  const auto s = simplex_of(c);
+  return info_[c].radius / delaunay::shortest_edge(s) < params_.radius_edge_bound &&
+         delaunay::normalized_volume(s) >= params_.sliver_bound;
+}
+
+std::vector<Label> Refiner::apply(const std::vector<Move>& moves) {
+  std::vector<Label> before;
+  for (const Move& m : moves) before.push_back(info_[m.cell].label), info_[m.cell].label = m.to;
+  return before;
+}
+
+void Refiner::undo(const std::vector<Move>& moves, const std::vector<Label>& before) {
+  for (std::size_t i = moves.size(); i-- > 0;) info_[moves[i].cell].label = before[i];
+}
+
+long Refiner::relabel_gain(const std::vector<Move>& moves) {
+  // The change in the number of pinches on every triangle of the moved pentatopes (the only
+  // triangles whose cycles a move changes), or kNotAllowed.
+  std::vector<CellId> cells;
+  for (const Move& m : moves) cells.push_back(m.cell);
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  std::vector<Label> from(cells.size());
+  for (std::size_t i = 0; i < cells.size(); ++i) from[i] = info_[cells[i]].label;
+  const long before = static_cast<long>(pinches_on(cells).size());
+  const std::vector<Label> saved = apply(moves);
+  bool allowed = true;
+  for (std::size_t i = 0; i < cells.size() && allowed; ++i)
+    allowed = info_[cells[i]].label == from[i] || movable(cells[i], from[i]);
+  const long gain = allowed ? before - static_cast<long>(pinches_on(cells).size()) : kNotAllowed;
+  undo(moves, saved);
+  return gain;
+}
+
+std::size_t Refiner::relabel_pinches() {
+  std::size_t moved = 0;
+  // Each accepted move lowers the number of pinches, so the rounds end; a move that only shifts
+  // the pinch to another triangle of the moved pentatopes (a label checkerboard around an edge)
+  // is tried together with each way to join the labels there.
+  for (int round = 0; round < kRelabelRounds; ++round) {
+    std::vector<PinchedTriangle> pinched;
+    if (count_pinches(&pinched) == 0) break;
+    std::size_t moved_now = 0;
+    for (const PinchedTriangle& p : pinched) {
+      std::vector<Move> best;
+      long best_gain = 0;
+      const auto consider = [&](std::vector<Move> moves) {
+        const long gain = relabel_gain(moves);
+        if (gain > best_gain || (gain > 0 && gain == best_gain && moves.size() < best.size()))
+          best = std::move(moves), best_gain = gain;
+      };
+      const auto first = relabel_options(p);
+      std::vector<std::vector<Move>> shifted;
+      for (const auto& o : first) {
+        const long gain = relabel_gain(o);
+        if (gain > 0) consider(o);
+        if (gain == 0) shifted.push_back(o);
+      }
+      if (best.empty())
+        for (const auto& o : shifted) {
+          std::vector<CellId> cells;
+          for (const Move& m : o) cells.push_back(m.cell);
+          const std::vector<Label> saved = apply(o);
+          std::vector<std::vector<Move>> second;
+          for (const PinchedTriangle& q : pinches_on(cells))
+            for (auto& o2 : relabel_options(q)) second.push_back(std::move(o2));
+          undo(o, saved);
+          for (const auto& o2 : second) {
+            std::vector<Move> both = o;
+            both.insert(both.end(), o2.begin(), o2.end());
+            consider(std::move(both));
+          }
+        }
+      if (best.empty()) continue;
+      apply(best);
+      moved_now += best.size();
+    }
+    moved += moved_now;
+    if (moved_now == 0) break;
+  }
+  return moved;
+}
+
+}  // namespace mesh4d::refine
