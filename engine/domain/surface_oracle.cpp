@@ -181,34 +181,37 @@ Vec4 SurfaceOracle::cut_gradient(const Point4& x, Label a, Label b) const {
   return g;
 }
 
-SurfacePoint SurfaceOracle::bisect(Point4 a, Point4 b, Label label_a) const {
-  // Plain halving, on purpose: a secant step (regula falsi) needs ~10 evaluations instead of up
-  // to 80, but lands exactly on the root of the cut function, the same for every cell with the
+SurfacePoint SurfaceBracket::middle() const {
+  return {lerp(a, b, 0.5), label_a, label_b};
+}
+
+SurfaceBracket SurfaceOracle::narrow(SurfaceBracket k, double tolerance) const {
+  // Plain halving, on purpose: a secant step (regula falsi) needs ~10 evaluations instead of
+  // ~35, but lands exactly on the root of the cut function, the same for every cell with the
   // same corner labels; its many exactly co-planar surface points gave degenerate pentatopes,
   // off-∂Ω boundary vertices and more pinches, on the hypersphere and on the patients.
-  Label label_b = label_at(b);
-  // Once a and b lie in one interior voxel cell, its corner labels are read once and each
-  // halving only recomputes the weights (the same arithmetic as weights_at, so the same labels).
+  // Once both ends lie in one interior voxel cell, its labels are read once and each halving
+  // only recomputes the weights (the same arithmetic as weights_at, so the same labels).
   const Dims4& d = image_.dims();
   CellLabels cell;
   double base[4];
   bool in_cell = false;
-  // Halving stops at 1e-11 of the smallest spacing, where |f| ≤ 2e-11 (f changes by at most 2
-  // per voxel along any axis), or below the spacing of doubles; 80 halvings take any segment
-  // inside the image that far.
-  const double tolerance2 = 1e-22 * min_spacing_ * min_spacing_;
+  const double tolerance2 = tolerance * tolerance;
+  // 80 halvings take any segment inside the image below the spacing of doubles.
   for (int i = 0; i < 80; ++i) {
-    const Point4 m = lerp(a, b, 0.5);
-    if (m == a || m == b) break;
+    const Point4 m = lerp(k.a, k.b, 0.5);
+    if (m == k.a || m == k.b) break;
     double length2 = 0;
-    for (int k = 0; k < 4; ++k) length2 += (b[k] - a[k]) * (b[k] - a[k]);
+    for (int axis = 0; axis < 4; ++axis)
+      length2 += (k.b[axis] - k.a[axis]) * (k.b[axis] - k.a[axis]);
     if (length2 < tolerance2) break;
     if (!in_cell) {
-      const Vec4 ua = image_.to_index(a), ub = image_.to_index(b);
+      const Vec4 ua = image_.to_index(k.a), ub = image_.to_index(k.b);
       in_cell = true;
-      for (int k = 0; k < 4 && in_cell; ++k) {
-        base[k] = std::floor(ua[k]);
-        in_cell = base[k] == std::floor(ub[k]) && base[k] >= 0 && base[k] + 1 < double(d[k]);
+      for (int axis = 0; axis < 4 && in_cell; ++axis) {
+        base[axis] = std::floor(ua[axis]);
+        in_cell = base[axis] == std::floor(ub[axis]) && base[axis] >= 0 &&
+                  base[axis] + 1 < double(d[axis]);
       }
       if (in_cell) {
         const std::size_t first = image_.linear_index(
@@ -228,17 +231,24 @@ SurfacePoint SurfaceOracle::bisect(Point4 a, Point4 b, Label label_a) const {
     } else {
       lm = label_at(m);
     }
-    if (lm == label_a) {
-      a = m;
+    if (lm == k.label_a) {
+      k.a = m;
     } else {
-      b = m;
-      label_b = lm;
+      k.b = m;
+      k.label_b = lm;
     }
   }
-  return {lerp(a, b, 0.5), label_a, label_b};
+  return k;
 }
 
 std::optional<SurfacePoint> SurfaceOracle::first_crossing(const Point4& a, const Point4& b) const {
+  const auto k = first_bracket(a, b, fine_tolerance());
+  if (!k) return std::nullopt;
+  return k->middle();
+}
+
+std::optional<SurfaceBracket> SurfaceOracle::first_bracket(const Point4& a, const Point4& b,
+                                                           double tolerance) const {
   const Label la = label_at(a);
   // Only the part of the segment within a cell of the voxel centers can see a label change:
   // beyond, every point is background. Clipping also keeps the walk short when an end is far
@@ -266,7 +276,7 @@ std::optional<SurfacePoint> SurfaceOracle::first_crossing(const Point4& a, const
   Point4 previous = start;
   for (int i = 1; i <= steps; ++i) {
     const Point4 p = lerp(start, end, double(i) / steps);
-    if (label_at(p) != la) return bisect(previous, p, la);
+    if (const Label lp = label_at(p); lp != la) return narrow({previous, p, la, lp}, tolerance);
     previous = p;
   }
   return std::nullopt;
@@ -286,7 +296,8 @@ std::optional<SurfacePoint> SurfaceOracle::project_along(const Point4& seed,
   return f ? f : g;
 }
 
-SurfacePoint SurfaceOracle::closest_surface_point(const Point4& x, CfpMode mode) const {
+std::vector<SurfaceBracket> SurfaceOracle::cfp_starts(const Point4& x, CfpMode mode,
+                                                      double tolerance) const {
   // Start: the nearest surface voxel to the voxel nearest x.
   const Vec4 u = image_.to_index(x);
   const Dims4& d = image_.dims();
@@ -305,11 +316,11 @@ SurfacePoint SurfaceOracle::closest_surface_point(const Point4& x, CfpMode mode)
 
   // Candidate surface points: on the ray from x through that voxel (continued a voxel past it),
   // and between the voxel and each face neighbor of another label.
-  std::vector<SurfacePoint> candidates;
+  std::vector<SurfaceBracket> candidates;
   const double dist = distance(x, center);
   if (dist > 1e-9 * voxel_size_) {
     const double beyond = (dist + 1.5 * voxel_size_) / dist;
-    if (auto z = first_crossing(x, lerp(x, center, beyond))) candidates.push_back(*z);
+    if (auto k = first_bracket(x, lerp(x, center, beyond), tolerance)) candidates.push_back(*k);
   }
   const Label own = image_.at(image_.linear_index(sc[0], sc[1], sc[2], sc[3]));
   for (int a = 0; a < 4; ++a)
@@ -320,7 +331,7 @@ SurfacePoint SurfaceOracle::closest_surface_point(const Point4& x, CfpMode mode)
       if (image_.at(image_.linear_index(nc[0], nc[1], nc[2], nc[3])) == own) continue;
       Point4 n = center;
       n[a] += side * image_.spacing()[a];
-      if (auto z = first_crossing(center, n)) candidates.push_back(*z);
+      if (auto k = first_bracket(center, n, tolerance)) candidates.push_back(*k);
     }
   if (mode == CfpMode::descent || candidates.empty()) {
     // More starts: rays from x through the surface voxels around the nearest one (the zero set
@@ -339,26 +350,51 @@ SurfacePoint SurfaceOracle::closest_surface_point(const Point4& x, CfpMode mode)
       const Point4 other = image_.voxel_center(nc[0], nc[1], nc[2], nc[3]);
       const double dn = distance(x, other);
       if (dn <= 1e-9 * voxel_size_) continue;
-      if (auto z = first_crossing(x, lerp(x, other, (dn + 1.5 * voxel_size_) / dn)))
+      if (auto z = first_bracket(x, lerp(x, other, (dn + 1.5 * voxel_size_) / dn), tolerance))
         candidates.push_back(*z);
     }
   }
-  if (candidates.empty()) return {x, label_at(x), label_at(x)};  // unreachable when validated
-  // The closest few starts are worth a descent.
-  std::sort(candidates.begin(), candidates.end(),
-            [&](const SurfacePoint& a, const SurfacePoint& b) {
-              return distance(x, a.point) < distance(x, b.point);
-            });
-  if (candidates.size() > 6) candidates.resize(6);
-
-  // Refine each candidate and keep the closest: the interpolated surface of a voxelized shape
-  // is bumpy at the voxel scale, so a single descent can stop on the wrong bump.
+  // Nearest first, each oriented with x's side as a (and inner).
   const Label x_label = label_at(x);
-  SurfacePoint best = candidates.front();
+  std::vector<std::pair<double, SurfaceBracket>> nearest;
+  for (SurfaceBracket k : candidates) {
+    if (k.label_b == x_label) std::swap(k.a, k.b), std::swap(k.label_a, k.label_b);
+    nearest.emplace_back(distance(x, k.middle().point), k);
+  }
+  std::stable_sort(nearest.begin(), nearest.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<SurfaceBracket> out;
+  for (const auto& [dk, k] : nearest) out.push_back(k);
+  return out;
+}
+
+std::optional<SurfaceBracket> SurfaceOracle::closest_surface_bracket(const Point4& x) const {
+  // Every candidate is bracketed coarsely (a thousandth of a voxel); pinpoint() narrows only
+  // the one a caller keeps: most of the ray mode's cost was halving candidates it then dropped.
+  const auto starts = cfp_starts(x, CfpMode::ray, 1e-3 * min_spacing_);
+  if (starts.empty()) return std::nullopt;
+  return starts.front();
+}
+
+SurfacePoint SurfaceOracle::pinpoint(const SurfaceBracket& k) const {
+  return narrow(k, fine_tolerance()).middle();
+}
+
+SurfacePoint SurfaceOracle::closest_surface_point(const Point4& x, CfpMode mode) const {
+  if (mode == CfpMode::ray) {
+    const auto k = closest_surface_bracket(x);
+    if (!k) return {x, label_at(x), label_at(x)};  // unreachable when validated
+    return pinpoint(*k);
+  }
+  const auto starts = cfp_starts(x, mode, fine_tolerance());
+  if (starts.empty()) return {x, label_at(x), label_at(x)};
+  // The closest few starts are worth a descent: the interpolated surface of a voxelized shape
+  // is bumpy at the voxel scale, so a single descent can stop on the wrong bump.
+  SurfacePoint best = starts.front().middle();
   double best_distance = INFINITY;
-  for (SurfacePoint z : candidates) {
-    if (z.outer == x_label) std::swap(z.inner, z.outer);  // x's side is "inner"
-    if (mode == CfpMode::descent) refine_towards(x, z);
+  for (std::size_t i = 0; i < starts.size() && i < 6; ++i) {
+    SurfacePoint z = starts[i].middle();
+    refine_towards(x, z);
     const double dz = distance(x, z.point);
     if (dz < best_distance) best_distance = dz, best = z;
   }

@@ -31,6 +31,13 @@ struct SurfacePoint {
   Label outer;   // the label on the other side
 };
 
+/// A segment whose ends have different labels, label_a at a: ∂Ω crosses it.
+struct SurfaceBracket {
+  Point4 a, b;
+  Label label_a, label_b;
+  SurfacePoint middle() const;
+};
+
 class SurfaceOracle {
  public:
   /// Keeps a reference to `image` (which must outlive the oracle) and computes its feature
@@ -63,6 +70,11 @@ class SurfaceOracle {
   /// nearest surface voxel (never seen on a validated image), returns x with inner == outer:
   /// callers check that before using the point as a surface point.
   SurfacePoint closest_surface_point(const Point4& x, CfpMode mode = CfpMode::descent) const;
+  /// The ray mode's answer bracketed to a thousandth of a voxel (its middle is that close to
+  /// ∂Ω), for callers that often drop it; pinpoint() finishes the one kept. Nothing when no
+  /// crossing is found near the feature voxel.
+  std::optional<SurfaceBracket> closest_surface_bracket(const Point4& x) const;
+  SurfacePoint pinpoint(const SurfaceBracket& k) const;
 
   /// Cheap bounds on the distance from x to ∂Ω, from the feature transform alone (no search):
   /// {lower, upper}. Every point of ∂Ω lies within one voxel-cell diagonal of a surface voxel.
@@ -91,7 +103,16 @@ class SurfaceOracle {
   // The weights at fractional position `frac` in a voxel cell with these labels.
   LabelWeights weights_in_cell(const CellLabels& cell, const double frac[4]) const;
   Label argmax(const LabelWeights& w) const;
-  SurfacePoint bisect(Point4 a, Point4 b, Label label_a) const;
+  // Halves the bracket until it is shorter than `tolerance` (or the spacing of doubles).
+  SurfaceBracket narrow(SurfaceBracket k, double tolerance) const;
+  // The first label change from a towards b, bracketed to within `tolerance`.
+  std::optional<SurfaceBracket> first_bracket(const Point4& a, const Point4& b,
+                                              double tolerance) const;
+  // cfp's candidates (see CfpMode), nearest to x first, x's side as a.
+  std::vector<SurfaceBracket> cfp_starts(const Point4& x, CfpMode mode, double tolerance) const;
+  // The tolerance of every surface point returned: 1e-11 of the smallest spacing, where
+  // |f| ≤ 2e-11 (f changes by at most 2 per voxel along any axis).
+  double fine_tolerance() const { return 1e-11 * min_spacing_; }
   std::optional<SurfacePoint> project_along(const Point4& seed, const Vec4& normal) const;
   void refine_towards(const Point4& x, SurfacePoint& z) const;
 

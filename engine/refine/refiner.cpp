@@ -65,16 +65,17 @@ Point4 Refiner::clamp_to_box(const Point4& p) const {
   return q;
 }
 
-bool Refiner::ball_meets_surface(const Point4& center, double radius, Point4* cfp) const {
+bool Refiner::ball_meets_surface(const Point4& center, double radius,
+                                 domain::SurfaceBracket* cfp) const {
   const auto [lower, upper] = oracle_.surface_distance_bounds(center);
   if (lower >= radius) return false;
   // The paper's cfp (ray to the nearest surface voxel, then bisection): the descent to the exact
-  // closest point costs ten times more and changes little for sampling.
-  const domain::SurfacePoint z =
-      oracle_.closest_surface_point(center, domain::SurfaceOracle::CfpMode::ray);
-  if (z.inner == z.outer) return false;  // no surface point found near the feature voxel
-  *cfp = z.point;
-  return distance(center, z.point) < radius;
+  // closest point costs ten times more and changes little for sampling. Bracketed to a
+  // thousandth of a voxel: R1 pinpoints it only when it inserts it.
+  const auto z = oracle_.closest_surface_bracket(center);
+  if (!z) return false;  // no surface point found near the feature voxel
+  *cfp = *z;
+  return distance(center, z->middle().point) < radius;
 }
 
 void Refiner::update_info(CellId c) {
@@ -140,10 +141,10 @@ Refiner::Rule Refiner::classify(CellId c, Point4* point, VertexKind* kind) {
   *kind = VertexKind::free;
   *point = center;
   if (params_.rule_order == RuleOrder::r3_first && bad_ratio) return kR3;
-  Point4 z;
+  domain::SurfaceBracket z;
   if (ball_meets_surface(center, r, &z)) {
-    if (!features_.any_within(z, params_.delta)) {
-      *point = z;
+    if (!features_.any_within(z.middle().point, params_.delta)) {
+      *point = oracle_.pinpoint(z).point;
       *kind = VertexKind::feature;
       return kR1;
     }

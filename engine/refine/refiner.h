@@ -86,7 +86,7 @@ class Refiner {
   Point4 pick_on_surface(delaunay::CellId c, const Point4& z, double radius);
   double worst_new_quality(const Point4& p, delaunay::CellId hint);
   void remove_free_vertices_near(mesh4d::VertexId v, std::vector<delaunay::CellId>& created);
-  bool ball_meets_surface(const Point4& center, double radius, Point4* cfp) const;
+  bool ball_meets_surface(const Point4& center, double radius, domain::SurfaceBracket* cfp) const;
   Point4 clamp_to_box(const Point4& p) const;
   // Applies the rules until none does.
   void drain(ProgressSink* sink);
@@ -146,8 +146,9 @@ class Refiner {
   bool tracking_ = false;                       // admit() records new pentatopes in touched_
   std::vector<delaunay::CellId> touched_;       // since the last pinch count
   std::vector<PinchedTriangle> known_pinches_;  // found by the last pinch count
-  std::mt19937_64 rng_;       // of the picking regions, seeded by RefineParams::seed
-  delaunay::Cavity scratch_;  // trial cavities of the picking regions
+  std::vector<bool> shifted_;  // by cell: moved by relabel_pinches() without lowering the count
+  std::mt19937_64 rng_;        // of the picking regions, seeded by RefineParams::seed
+  delaunay::Cavity scratch_;   // trial cavities of the picking regions
   Progress progress_;
   std::uint64_t operations_ = 0;
   std::vector<delaunay::CellId> fresh_;  // scratch: the pentatopes an operation made

@@ -23,7 +23,7 @@ namespace {
 using delaunay::CellId;
 using domain::Label;
 
-constexpr int kRelabelRounds = 16;
+constexpr int kRelabelRounds = 32;
 constexpr long kNotAllowed = std::numeric_limits<long>::min();
 
 // A maximal run of consecutive positions (cyclic) whose labels are L (or are not L).
@@ -194,9 +194,10 @@ long Refiner::relabel_gain(const std::vector<Move>& moves) {
 
 std::size_t Refiner::relabel_pinches() {
   std::size_t moved = 0;
-  // Each accepted move lowers the number of pinches, so the rounds end; a move that only shifts
-  // the pinch to another triangle of the moved pentatopes (a label checkerboard around an edge)
-  // is tried together with each way to join the labels there.
+  shifted_.assign(tri_.store().cell_slots(), false);
+  // Each accepted move lowers the number of pinches; a move that only shifts the pinch to
+  // another triangle of the moved pentatopes (a label checkerboard around an edge) is tried
+  // together with each way to join the labels there, and taken alone as a last resort.
   for (int round = 0; round < kRelabelRounds; ++round) {
     std::vector<PinchedTriangle> pinched;
     if (count_pinches(&pinched) == 0) break;
@@ -231,7 +232,17 @@ std::size_t Refiner::relabel_pinches() {
             consider(std::move(both));
           }
         }
-      if (best.empty()) continue;
+      if (best.empty()) {
+        // Nothing lowers the count here: shift the pinch to a neighboring triangle, where it
+        // may close, moving only pentatopes that never moved (so the shifting ends).
+        for (const auto& o : shifted)
+          if (std::none_of(o.begin(), o.end(), [&](const Move& m) { return shifted_[m.cell]; })) {
+            best = o;
+            break;
+          }
+        if (best.empty()) continue;
+        for (const Move& m : best) shifted_[m.cell] = true;
+      }
       apply(best);
       moved_now += best.size();
     }
