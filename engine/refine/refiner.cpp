@@ -18,6 +18,7 @@ namespace {
 
 constexpr auto kReportInterval = std::chrono::milliseconds(200);
 constexpr int kRepairRounds = 40;  // of pinch repair, each followed by the rules
+constexpr int kUnpinchRounds = 4;  // of free-vertex removal where relabeling is stuck
 
 double distance(const Point4& a, const Point4& b) {
   double d = 0;
@@ -387,9 +388,16 @@ RefineResult Refiner::run(ProgressSink* sink) {
     drain(sink);
   }
 
-  report(sink, Phase::extracting, true);
+  // What the repair leaves, relabeling closes; where it cannot (a pentatope that would have to
+  // move has a free vertex), those free vertices go, the rules run again, and so on, a few times.
   RefineResult result;
   result.relabeled = relabel_pinches();
+  for (int round = 0; round < kUnpinchRounds && count_pinches(nullptr) > 0; ++round) {
+    if (remove_free_vertices_at_pinches() == 0) break;
+    drain(sink);
+    result.relabeled += relabel_pinches();
+  }
+  report(sink, Phase::extracting, true);
   result.mesh = extract(result.warnings);
   if (const std::size_t pinches = count_pinches(nullptr)) {
     std::ostringstream s;

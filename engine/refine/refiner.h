@@ -114,6 +114,8 @@ class Refiner {
   // Closes the pinches the repair left by moving a few pentatopes, all of whose vertices lie on
   // ∂Ω, to a neighboring label (refiner_relabel.cpp); returns how many pentatopes moved.
   std::size_t relabel_pinches();
+  // Removes the free vertices of the pentatopes around the pinched triangles; returns how many.
+  std::size_t remove_free_vertices_at_pinches();
   struct Move {
     delaunay::CellId cell;
     domain::Label to;

@@ -1,20 +1,22 @@
 // Closing the pinches that the repair (refiner_junctions.cpp) leaves, by relabeling.
 //
 // Around a triangle t the pentatopes form a cycle; a label's region is pinched at t when it
-// occupies two or more separate arcs of that cycle. Where three labels meet at a sharp junction
-// (the time caps, the valve plane), inserting more surface points there does not converge: each
-// new point makes new small pentatopes whose circumcenters again fall on alternating sides.
-// Moving the pentatopes of the shorter arcs (or of the gaps between them) to a neighboring label
-// joins the arcs. Only pentatopes whose five vertices all lie on ∂Ω move, so every new boundary
-// tetrahedron still has its vertices on ∂Ω; the triangulation itself does not change. Such a
-// pentatope's circumcenter is within its small circumball of the junction, so the label it gets
-// is one that is present there.
+// occupies two or more separate arcs of that cycle (link_labels.h). Where three labels meet at
+// a sharp junction (the time caps, the valve plane), inserting more surface points there does
+// not converge: each new point makes new small pentatopes whose circumcenters again fall on
+// alternating sides. Moving the pentatopes of the shorter arcs (or of the gaps between them) to
+// a neighboring label joins the arcs. A move is allowed only when every facet of the moved
+// pentatope that then separates two labels has its four vertices on ∂Ω (so every boundary
+// tetrahedron still does), and a pentatope that enters the output meets the quality bounds; the
+// triangulation itself does not change. The moved pentatopes are the exception to "the label
+// of a pentatope is the label at its circumcenter"; RefineResult::relabeled counts them.
 #include <algorithm>
 #include <array>
 #include <limits>
 #include <vector>
 
 #include "delaunay/geometry.h"
+#include "refine/link_labels.h"
 #include "refine/refiner.h"
 
 namespace mesh4d::refine {
@@ -25,80 +27,6 @@ using domain::Label;
 
 constexpr int kRelabelRounds = 32;
 constexpr long kNotAllowed = std::numeric_limits<long>::min();
-
-// A maximal run of consecutive positions (cyclic) whose labels are L (or are not L).
-struct Arc {
-  std::size_t begin;
-  std::size_t length;
-};
-
-std::vector<Arc> arcs(const std::vector<Label>& labels, Label l, bool of_l) {
-  const std::size_t n = labels.size();
-  std::vector<Arc> out;
-  // Start right after a position of the other kind, so that no run wraps around the start.
-  std::size_t first = n;
-  for (std::size_t i = 0; i < n; ++i)
-    if ((labels[i] == l) != of_l) {
-      first = (i + 1) % n;
-      break;
-    }
-  if (first == n) return {{0, n}};  // the whole cycle is of that kind
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t i = (first + k) % n;
-    if ((labels[i] == l) != of_l) continue;
-    if (!out.empty() && out.back().begin + out.back().length == first + k)
-      ++out.back().length;
-    else
-      out.push_back({first + k, 1});
-  }
-  for (Arc& a : out) a.begin %= n;
-  return out;
-}
-
-// How many output labels (not background) occupy two or more arcs of the cycle.
-int split_labels(const std::vector<Label>& labels) {
-  std::vector<Label> seen;
-  for (Label l : labels)
-    if (l != 0 && std::find(seen.begin(), seen.end(), l) == seen.end()) seen.push_back(l);
-  int split = 0;
-  for (Label l : seen) split += arcs(labels, l, true).size() > 1;
-  return split;
-}
-
-// A relabeling of some positions of the cycle.
-struct Option {
-  std::vector<std::pair<std::size_t, Label>> moves;
-};
-
-// The ways to join label l's arcs: fill every gap but the longest with l, or give every arc of l
-// but the longest the label before it (or after it).
-std::vector<Option> options_for(const std::vector<Label>& labels, Label l) {
-  const std::size_t n = labels.size();
-  std::vector<Option> out;
-  const auto all_but_longest = [](std::vector<Arc> runs) {
-    std::iter_swap(runs.begin(),
-                   std::max_element(runs.begin(), runs.end(), [](const Arc& a, const Arc& b) {
-                     return a.length < b.length;
-                   }));
-    runs.erase(runs.begin());
-    return runs;
-  };
-  Option fill;
-  for (const Arc& gap : all_but_longest(arcs(labels, l, false)))
-    for (std::size_t k = 0; k < gap.length; ++k) fill.moves.emplace_back((gap.begin + k) % n, l);
-  out.push_back(std::move(fill));
-  for (int side = 0; side < 2; ++side) {
-    Option cut;
-    for (const Arc& arc : all_but_longest(arcs(labels, l, true))) {
-      const Label next =
-          side == 0 ? labels[(arc.begin + n - 1) % n] : labels[(arc.begin + arc.length) % n];
-      for (std::size_t k = 0; k < arc.length; ++k)
-        cut.moves.emplace_back((arc.begin + k) % n, next);
-    }
-    out.push_back(std::move(cut));
-  }
-  return out;
-}
 
 }  // namespace
 
@@ -131,14 +59,14 @@ std::vector<std::vector<Refiner::Move>> Refiner::relabel_options(const PinchedTr
   for (Label l : labels) {
     if (l == 0 || std::find(seen.begin(), seen.end(), l) != seen.end()) continue;
     seen.push_back(l);
-    if (arcs(labels, l, true).size() < 2) continue;
-    for (const Option& o : options_for(labels, l)) {
-      if (o.moves.empty()) continue;
+    if (label_arcs(labels, l, true).size() < 2) continue;
+    for (const LinkMoves& o : joining_moves(labels, l)) {
+      if (o.empty()) continue;
       std::vector<Label> after = labels;
-      for (const auto& [i, to] : o.moves) after[i] = to;
+      for (const auto& [i, to] : o) after[i] = to;
       if (split_labels(after) != 0) continue;  // must join every label around t
       std::vector<Move> moves;
-      for (const auto& [i, to] : o.moves) moves.push_back({cycle[i], to});
+      for (const auto& [i, to] : o) moves.push_back({cycle[i], to});
       out.push_back(std::move(moves));
     }
   }
@@ -196,8 +124,9 @@ std::size_t Refiner::relabel_pinches() {
   std::size_t moved = 0;
   shifted_.assign(tri_.store().cell_slots(), false);
   // Each accepted move lowers the number of pinches; a move that only shifts the pinch to
-  // another triangle of the moved pentatopes (a label checkerboard around an edge) is tried
-  // together with each way to join the labels there, and taken alone as a last resort.
+  // other triangles of the moved pentatopes (a label checkerboard around an edge) is tried
+  // together with each way to join the labels there, and, when it does not add any, taken
+  // alone as a last resort.
   for (int round = 0; round < kRelabelRounds; ++round) {
     std::vector<PinchedTriangle> pinched;
     if (count_pinches(&pinched) == 0) break;
@@ -211,14 +140,17 @@ std::size_t Refiner::relabel_pinches() {
           best = std::move(moves), best_gain = gain;
       };
       const auto first = relabel_options(p);
-      std::vector<std::vector<Move>> shifted;
+      std::vector<std::vector<Move>> shifted, worse;  // allowed, gain 0 / gain below 0
       for (const auto& o : first) {
         const long gain = relabel_gain(o);
         if (gain > 0) consider(o);
         if (gain == 0) shifted.push_back(o);
+        if (gain < 0 && gain != kNotAllowed) worse.push_back(o);
       }
+      std::vector<std::vector<Move>> starts = shifted;
+      starts.insert(starts.end(), worse.begin(), worse.end());
       if (best.empty())
-        for (const auto& o : shifted) {
+        for (const auto& o : starts) {
           std::vector<CellId> cells;
           for (const Move& m : o) cells.push_back(m.cell);
           const std::vector<Label> saved = apply(o);
@@ -250,6 +182,38 @@ std::size_t Refiner::relabel_pinches() {
     if (moved_now == 0) break;
   }
   return moved;
+}
+
+std::size_t Refiner::remove_free_vertices_at_pinches() {
+  // The free vertices of the pentatopes around each pinched triangle: they stop the
+  // relabeling there (a moved pentatope would put them on the boundary).
+  const auto& st = tri_.store();
+  std::vector<PinchedTriangle> pinched;
+  count_pinches(&pinched);
+  std::vector<mesh4d::VertexId> free;
+  std::vector<CellId> cycle;
+  std::vector<int> crossed;
+  for (const PinchedTriangle& p : pinched) {
+    link_cycle(p.facets.front().first, p.triangle, cycle, crossed);
+    for (CellId c : cycle)
+      for (mesh4d::VertexId v : st.cell(c).v)
+        if (v != delaunay::kInfiniteVertex && st.vertex(v).kind == delaunay::VertexKind::free)
+          free.push_back(v);
+  }
+  std::sort(free.begin(), free.end());
+  free.erase(std::unique(free.begin(), free.end()), free.end());
+  std::size_t removed = 0;
+  std::vector<CellId> created;
+  for (mesh4d::VertexId v : free) {
+    created.clear();
+    if (!tri_.remove(v, &created)) continue;
+    ++removed;
+    std::vector<CellId> live;
+    for (CellId c : created)
+      if (st.is_live(c)) live.push_back(c);
+    admit(live);
+  }
+  return removed;
 }
 
 }  // namespace mesh4d::refine
