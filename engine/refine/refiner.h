@@ -125,6 +125,14 @@ class Refiner {
   // How many pinches the moves remove (negative: add); the least long when one is not allowed.
   long relabel_gain(const std::vector<Move>& moves);
   bool movable(delaunay::CellId c, domain::Label from) const;
+  struct MoveSearch {
+    std::vector<Move> best;  // the moves with the largest positive gain so far
+    long best_gain = 0;
+    int budget = 4096;  // gains still to evaluate
+  };
+  // Tries `base` extended by each way to join the labels around the pinches it leaves on its
+  // pentatopes' triangles, recursively to `depth` more levels.
+  void extend_moves(const std::vector<Move>& base, int depth, MoveSearch& search);
   std::vector<domain::Label> apply(const std::vector<Move>& moves);  // returns the old labels
   void undo(const std::vector<Move>& moves, const std::vector<domain::Label>& before);
   // The pinches on the triangles of these pentatopes.

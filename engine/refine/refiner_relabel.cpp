@@ -26,6 +26,7 @@ using delaunay::CellId;
 using domain::Label;
 
 constexpr int kRelabelRounds = 32;
+constexpr int kMoveDepth = 3;  // sets of moves at one pinch: up to three joins
 constexpr long kNotAllowed = std::numeric_limits<long>::min();
 
 }  // namespace
@@ -120,63 +121,67 @@ long Refiner::relabel_gain(const std::vector<Move>& moves) {
   return gain;
 }
 
+void Refiner::extend_moves(const std::vector<Move>& base, int depth, MoveSearch& search) {
+  // The pinches that `base` leaves or makes on the triangles of its pentatopes, and each way
+  // to join the labels around them, added to base.
+  std::vector<CellId> cells;
+  for (const Move& m : base) cells.push_back(m.cell);
+  const std::vector<Label> saved = apply(base);
+  std::vector<std::vector<Move>> next;
+  for (const PinchedTriangle& q : pinches_on(cells))
+    for (auto& o : relabel_options(q)) next.push_back(std::move(o));
+  undo(base, saved);
+  for (const auto& o : next) {
+    if (search.budget == 0) return;
+    --search.budget;
+    std::vector<Move> both = base;
+    both.insert(both.end(), o.begin(), o.end());
+    const long gain = relabel_gain(both);
+    if (gain > search.best_gain ||
+        (gain > 0 && gain == search.best_gain && both.size() < search.best.size())) {
+      search.best = both;
+      search.best_gain = gain;
+    } else if (gain != kNotAllowed && gain <= 0 && depth > 1) {
+      extend_moves(both, depth - 1, search);
+    }
+  }
+}
+
 std::size_t Refiner::relabel_pinches() {
   std::size_t moved = 0;
   shifted_.assign(tri_.store().cell_slots(), false);
-  // Each accepted move lowers the number of pinches; a move that only shifts the pinch to
-  // other triangles of the moved pentatopes (a label checkerboard around an edge) is tried
-  // together with each way to join the labels there, and, when it does not add any, taken
-  // alone as a last resort.
+  // Each accepted set of moves lowers the number of pinches. A move that joins the labels
+  // around the pinched triangle but splits them around another triangle of the moved
+  // pentatopes (a label checkerboard around an edge) is extended, up to kMoveDepth levels,
+  // with the ways to join the labels there; one that only shifts a pinch is taken alone as a
+  // last resort, moving only pentatopes that never shifted (so the shifting ends).
   for (int round = 0; round < kRelabelRounds; ++round) {
     std::vector<PinchedTriangle> pinched;
     if (count_pinches(&pinched) == 0) break;
     std::size_t moved_now = 0;
     for (const PinchedTriangle& p : pinched) {
-      std::vector<Move> best;
-      long best_gain = 0;
-      const auto consider = [&](std::vector<Move> moves) {
-        const long gain = relabel_gain(moves);
-        if (gain > best_gain || (gain > 0 && gain == best_gain && moves.size() < best.size()))
-          best = std::move(moves), best_gain = gain;
-      };
-      const auto first = relabel_options(p);
-      std::vector<std::vector<Move>> shifted, worse;  // allowed, gain 0 / gain below 0
-      for (const auto& o : first) {
+      MoveSearch search;
+      std::vector<std::vector<Move>> shifted, starts;
+      for (const auto& o : relabel_options(p)) {
         const long gain = relabel_gain(o);
-        if (gain > 0) consider(o);
+        if (gain > search.best_gain ||
+            (gain > 0 && gain == search.best_gain && o.size() < search.best.size()))
+          search.best = o, search.best_gain = gain;
         if (gain == 0) shifted.push_back(o);
-        if (gain < 0 && gain != kNotAllowed) worse.push_back(o);
+        if (gain <= 0 && gain != kNotAllowed) starts.push_back(o);
       }
-      std::vector<std::vector<Move>> starts = shifted;
-      starts.insert(starts.end(), worse.begin(), worse.end());
-      if (best.empty())
-        for (const auto& o : starts) {
-          std::vector<CellId> cells;
-          for (const Move& m : o) cells.push_back(m.cell);
-          const std::vector<Label> saved = apply(o);
-          std::vector<std::vector<Move>> second;
-          for (const PinchedTriangle& q : pinches_on(cells))
-            for (auto& o2 : relabel_options(q)) second.push_back(std::move(o2));
-          undo(o, saved);
-          for (const auto& o2 : second) {
-            std::vector<Move> both = o;
-            both.insert(both.end(), o2.begin(), o2.end());
-            consider(std::move(both));
-          }
-        }
-      if (best.empty()) {
-        // Nothing lowers the count here: shift the pinch to a neighboring triangle, where it
-        // may close, moving only pentatopes that never moved (so the shifting ends).
+      for (std::size_t i = 0; i < starts.size() && search.best.empty(); ++i)
+        extend_moves(starts[i], kMoveDepth - 1, search);
+      if (search.best.empty()) {
         for (const auto& o : shifted)
           if (std::none_of(o.begin(), o.end(), [&](const Move& m) { return shifted_[m.cell]; })) {
-            best = o;
+            search.best = o;
             break;
           }
-        if (best.empty()) continue;
-        for (const Move& m : best) shifted_[m.cell] = true;
+        for (const Move& m : search.best) shifted_[m.cell] = true;
       }
-      apply(best);
-      moved_now += best.size();
+      apply(search.best);
+      moved_now += search.best.size();
     }
     moved += moved_now;
     if (moved_now == 0) break;
