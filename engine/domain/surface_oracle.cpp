@@ -328,10 +328,13 @@ std::vector<SurfaceBracket> SurfaceOracle::cfp_starts(const Point4& x, CfpMode m
       std::size_t nc[4] = {sc[0], sc[1], sc[2], sc[3]};
       if ((side < 0 && nc[a] == 0) || (side > 0 && nc[a] + 1 >= d[a])) continue;
       nc[a] += side;
-      if (image_.at(image_.linear_index(nc[0], nc[1], nc[2], nc[3])) == own) continue;
+      const Label other = image_.at(image_.linear_index(nc[0], nc[1], nc[2], nc[3]));
+      if (other == own) continue;
       Point4 n = center;
       n[a] += side * image_.spacing()[a];
-      if (auto k = first_bracket(center, n, tolerance)) candidates.push_back(*k);
+      // A voxel center has its voxel's label (its own weight is 1), so the segment to a
+      // neighbor of another label brackets a crossing already: no walk along it.
+      candidates.push_back(narrow({center, n, own, other}, tolerance));
     }
   if (mode == CfpMode::descent || candidates.empty()) {
     // More starts: rays from x through the surface voxels around the nearest one (the zero set
