@@ -20,20 +20,27 @@ class FeatureIndex {
 
   /// Whether some added point lies strictly within distance r (≤ the cell size) of p.
   bool any_within(const Point4& p, double r) const {
-    const auto c = cell_of(p);
-    const double r2 = r * r;
-    for (int i = 0; i < 81; ++i) {
-      std::array<long, 4> n = c;
-      int k = i;
-      for (int a = 0; a < 4; ++a, k /= 3) n[a] += k % 3 - 1;
-      const auto it = grid_.find(key(n));
-      if (it == grid_.end()) continue;
-      for (const Point4& q : it->second) {
-        double d2 = 0;
-        for (int a = 0; a < 4; ++a) d2 += (p[a] - q[a]) * (p[a] - q[a]);
-        if (d2 < r2) return true;
-      }
+    // Only the grid cells that the box around the ball overlaps: 1 to 16 of them (of the 81
+    // around p), fewer the smaller r.
+    std::array<long, 4> lo, hi;
+    for (int a = 0; a < 4; ++a) {
+      lo[a] = long(std::floor((p[a] - r) / cell_));
+      hi[a] = long(std::floor((p[a] + r) / cell_));
     }
+    const double r2 = r * r;
+    std::array<long, 4> n;
+    for (n[3] = lo[3]; n[3] <= hi[3]; ++n[3])
+      for (n[2] = lo[2]; n[2] <= hi[2]; ++n[2])
+        for (n[1] = lo[1]; n[1] <= hi[1]; ++n[1])
+          for (n[0] = lo[0]; n[0] <= hi[0]; ++n[0]) {
+            const auto it = grid_.find(key(n));
+            if (it == grid_.end()) continue;
+            for (const Point4& q : it->second) {
+              double d2 = 0;
+              for (int a = 0; a < 4; ++a) d2 += (p[a] - q[a]) * (p[a] - q[a]);
+              if (d2 < r2) return true;
+            }
+          }
     return false;
   }
 

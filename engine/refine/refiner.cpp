@@ -142,8 +142,11 @@ Refiner::Rule Refiner::classify(CellId c, Point4* point, VertexKind* kind) {
   *kind = VertexKind::free;
   *point = center;
   if (params_.rule_order == RuleOrder::r3_first && bad_ratio) return kR3;
+  // A feature vertex f with |center − f| + r < Δ puts the whole ball within Δ of f: then no
+  // surface point in it can be an R1 point, and r < Δ rules out R2; skip the cfp.
   domain::SurfaceBracket z;
-  if (ball_meets_surface(center, r, &z)) {
+  if ((r >= params_.delta || !features_.any_within(center, params_.delta - r)) &&
+      ball_meets_surface(center, r, &z)) {
     if (!features_.any_within(z.middle().point, params_.delta)) {
       *point = oracle_.pinpoint(z).point;
       *kind = VertexKind::feature;
