@@ -317,10 +317,18 @@ std::vector<SurfaceBracket> SurfaceOracle::cfp_starts(const Point4& x, CfpMode m
   // Candidate surface points: on the ray from x through that voxel (continued a voxel past it),
   // and between the voxel and each face neighbor of another label.
   std::vector<SurfaceBracket> candidates;
+  // No label changes closer to x than the feature transform's lower bound: rays from x start
+  // their walk there (most of a far x's walk was in one label).
+  const double lower = surface_distance_bounds(x).first;
+  const auto ray = [&](const Point4& end) {
+    const double length = distance(x, end);
+    const Point4 start = lower > 0 && lower < length ? lerp(x, end, lower / length) : x;
+    return first_bracket(start, end, tolerance);
+  };
   const double dist = distance(x, center);
   if (dist > 1e-9 * voxel_size_) {
     const double beyond = (dist + 1.5 * voxel_size_) / dist;
-    if (auto k = first_bracket(x, lerp(x, center, beyond), tolerance)) candidates.push_back(*k);
+    if (auto k = ray(lerp(x, center, beyond))) candidates.push_back(*k);
   }
   const Label own = image_.at(image_.linear_index(sc[0], sc[1], sc[2], sc[3]));
   for (int a = 0; a < 4; ++a)
@@ -353,8 +361,7 @@ std::vector<SurfaceBracket> SurfaceOracle::cfp_starts(const Point4& x, CfpMode m
       const Point4 other = image_.voxel_center(nc[0], nc[1], nc[2], nc[3]);
       const double dn = distance(x, other);
       if (dn <= 1e-9 * voxel_size_) continue;
-      if (auto z = first_bracket(x, lerp(x, other, (dn + 1.5 * voxel_size_) / dn), tolerance))
-        candidates.push_back(*z);
+      if (auto z = ray(lerp(x, other, (dn + 1.5 * voxel_size_) / dn))) candidates.push_back(*z);
     }
   }
   // Nearest first, each oriented with x's side as a (and inner).
