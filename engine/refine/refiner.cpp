@@ -363,7 +363,16 @@ void Refiner::drain(ProgressSink* sink) {
     VertexKind kind;
     const Rule rule = classify(k.cell, &point, &kind);
     if (rule == kNone) continue;
-    insert_and_admit(point, kind, k.cell, rule == kSizing ? kR3 : rule);
+    // The computed circumcenter of a nearly degenerate pentatope (five surface points on one
+    // voxel plane, nearly co-spherical) can lie outside its exact circumsphere; a point placed
+    // from it then leaves the pentatope in place. Its centroid is inside it, so in conflict.
+    if (kind == VertexKind::free &&
+        !tri_.in_conflict(k.cell, point, static_cast<VertexId>(tri_.store().vertex_slots())))
+      point = centroid_of(k.cell);
+    // A pentatope that survives its operation (not in conflict with a surface point) is
+    // classified again; each retry follows an insertion, so the vertex budget bounds them.
+    if (insert_and_admit(point, kind, k.cell, rule == kSizing ? kR3 : rule) && still_valid(k))
+      enqueue(k.cell);
   }
 }
 

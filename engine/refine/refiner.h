@@ -68,6 +68,12 @@ class Refiner {
     for (int i = 0; i < 5; ++i) s[i] = tri_.store().point(tri_.store().cell(c).v[i]);
     return s;
   }
+  Point4 centroid_of(delaunay::CellId c) const {
+    Point4 g{};
+    for (const Point4& p : simplex_of(c))
+      for (int k = 0; k < 4; ++k) g[k] += 0.2 * p[k];
+    return g;
+  }
   void insert_box();
   // Feature vertices on every triple junction, RefineParams::junction_spacing · Δ apart.
   void insert_junctions();
