@@ -420,8 +420,10 @@ void JobManager::run(const std::string& id) {
     *finished.mutable_finished() = entry->job.stats();
     publish(*entry, std::move(finished));
     set_state(*entry, v1::JOB_STATE_SUCCEEDED);
-    log_job(spdlog::level::info, id, "succeeded: {} pentatopes in {:.2f} s",
-            outcome.stats.pentatopes, outcome.stats.elapsed_seconds);
+    log_job(spdlog::level::info, id,
+            "succeeded: {} pentatopes in {:.2f} s ({} relabeled to close pinches where labels "
+            "meet)",
+            outcome.stats.pentatopes, outcome.stats.elapsed_seconds, outcome.relabeled);
     return;
   } catch (const refine::Cancelled&) {
     std::lock_guard lock(mu_);

@@ -48,6 +48,7 @@ JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& pa
   const auto bytes = mesh::encode_m4d(result.mesh);
   out.mesh.assign(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   out.stats = result.stats;
+  out.relabeled = result.relabeled;
   out.warnings.insert(out.warnings.end(), result.warnings.begin(), result.warnings.end());
   return out;
 }

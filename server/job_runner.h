@@ -18,6 +18,7 @@ struct JobOutcome {
   std::string mesh;  // the .m4d bytes
   mesh::MeshStats stats;
   std::vector<std::string> warnings;
+  std::size_t relabeled = 0;  // pentatopes given a neighbor's label to close pinches
 };
 
 /// Throws refine::Cancelled, refine::BudgetExceeded, ServiceError (bad input) or
