@@ -45,6 +45,8 @@ class ChunkedArray {
     blocks_.clear();
     size_ = 0;
   }
+  /// Empties the array but keeps its blocks for reuse.
+  void reset() { size_ = 0; }
 
  private:
   unsigned shift_;

@@ -42,6 +42,8 @@ struct Vertex {
 class PentatopeStore {
  public:
   explicit PentatopeStore(unsigned block_shift = 16);
+  /// Back to the state after construction, keeping the storage blocks.
+  void reset();
 
   Pentatope& cell(CellId c) { return cells_[c]; }
   const Pentatope& cell(CellId c) const { return cells_[c]; }

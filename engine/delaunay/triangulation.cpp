@@ -31,6 +31,15 @@ constexpr auto kRidgeSlots = [] {
 
 Triangulation::Triangulation(unsigned block_shift) : store_(block_shift) {}
 
+void Triangulation::reset() {
+  store_.reset();
+  dimension_ = -1;
+  vertex_count_ = 0;
+  any_cell_ = kNoCell;
+  pending_.clear();
+  created_.clear();
+}
+
 std::size_t Triangulation::number_of_finite_cells() const {
   std::size_t n = 0;
   for (CellId c = 0; c < store_.cell_slots(); ++c)

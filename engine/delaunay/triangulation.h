@@ -33,6 +33,8 @@ class Triangulation {
  public:
   /// block_shift sizes the storage blocks (2^block_shift pentatopes each).
   explicit Triangulation(unsigned block_shift = 16);
+  /// Empty again, keeping the storage for reuse (vertex removal's local triangulations).
+  void reset();
 
   struct InsertResult {
     VertexId vertex;  // the new vertex, or the existing one at the same point

@@ -80,7 +80,10 @@ bool Triangulation::remove(VertexId v, std::vector<CellId>* created) {
   link.erase(std::unique(link.begin(), link.end()), link.end());
 
   // The local Delaunay triangulation of the link, oldest vertex first: local id k+1 is link[k].
-  Triangulation local(8);
+  // One per thread, reused: building a fresh one (its blocks, its tables) for every removal
+  // cost more than the few dozen insertions into it.
+  thread_local Triangulation local(8);
+  local.reset();
   CellId hint = kNoCell;
   for (VertexId u : link) {
     const InsertResult r = local.insert(store_.point(u), VertexKind::free, hint);
