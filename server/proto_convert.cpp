@@ -35,6 +35,7 @@ refine::RefineParams to_engine(const v1::RefineParams& p) {
   if (p.rule_order() == v1::RULE_ORDER_PAPER) r.rule_order = refine::RuleOrder::paper;
   if (p.seed() != 0) r.seed = p.seed();
   if (p.vertex_budget() != 0) r.vertex_budget = p.vertex_budget();
+  if (p.threads() != 0) r.threads = p.threads();
   return r;
 }
 
@@ -93,6 +94,8 @@ v1::Progress to_proto(const refine::Progress& p) {
   *r.mutable_insertions() = counts(p.insertions);
   *r.mutable_removals() = counts(p.removals);
   r.set_rollbacks(p.rollbacks);
+  r.set_contention_seconds(p.contention_seconds);
+  r.set_idle_seconds(p.idle_seconds);
   r.set_elapsed_seconds(p.elapsed_seconds);
   return r;
 }

@@ -29,7 +29,8 @@ constexpr auto kRidgeSlots = [] {
 
 }  // namespace
 
-Triangulation::Triangulation(unsigned block_shift) : store_(block_shift) {}
+Triangulation::Triangulation(unsigned block_shift)
+    : store_(block_shift), own_(&store_.own_allocator()) {}
 
 void Triangulation::reset() {
   store_.reset();
@@ -37,7 +38,6 @@ void Triangulation::reset() {
   vertex_count_ = 0;
   any_cell_ = kNoCell;
   pending_.clear();
-  created_.clear();
 }
 
 std::size_t Triangulation::number_of_finite_cells() const {
@@ -47,15 +47,31 @@ std::size_t Triangulation::number_of_finite_cells() const {
   return n;
 }
 
+void Triangulation::clear_stamps() {
+  for (CellId c = 0; c < store_.cell_slots(); ++c) store_.cell(c).mark = 0;
+  stamp_.store(0, std::memory_order_relaxed);
+}
+
 std::uint32_t Triangulation::next_stamp() {
   // Stamps come in pairs (in conflict, rejected) and only grow, so an old stamp never matches.
-  // On wrap-around every stamp is cleared once.
-  if (stamp_ >= 0xFFFFFFF0u) {
-    for (CellId c = 0; c < store_.cell_slots(); ++c) store_.cell(c).mark = 0;
-    stamp_ = 0;
+  // On wrap-around every stamp is cleared once (single-threaded: a parallel phase stops before,
+  // see stamps_running_low()).
+  std::uint32_t stamp = stamp_.fetch_add(2, std::memory_order_relaxed) + 2;
+  if (stamp >= kStampLimit) {
+    clear_stamps();
+    stamp = stamp_.fetch_add(2, std::memory_order_relaxed) + 2;
   }
-  stamp_ += 2;
-  return stamp_;
+  return stamp;
+}
+
+VertexId Triangulation::new_vertex(const Point4& p, VertexKind kind, std::uint32_t owner) {
+  vertex_count_.fetch_add(1, std::memory_order_relaxed);
+  return store_.add_vertex(p, kind, owner);
+}
+
+void Triangulation::discard_vertex(VertexId v) {
+  store_.vertex(v).kind = VertexKind::removed;
+  vertex_count_.fetch_sub(1, std::memory_order_relaxed);
 }
 
 int Triangulation::orient_with(CellId c, int i, const Point4& p) const {
@@ -85,16 +101,24 @@ bool Triangulation::in_conflict(CellId c, const Point4& p, VertexId pid) const {
 }
 
 CellId Triangulation::locate(const Point4& p, CellId hint) const {
-  CellId c = (hint != kNoCell && store_.is_live(hint)) ? hint : any_cell_;
-  if (store_.is_infinite(c)) c = store_.cell(c).n[store_.index_of(c, kInfiniteVertex)];
+  CellId c = (hint != kNoCell && store_.is_live(hint)) ? hint : any_cell();
+  return locate(p, c, own_, nullptr);
+}
+
+CellId Triangulation::locate(const Point4& p, CellId c, Workspace& ws, CellGuard* guard) const {
+  if (store_.is_infinite(c)) {
+    c = store_.cell(c).n[store_.index_of(c, kInfiniteVertex)];
+    if (guard && !guard->acquire(c)) return kNoCell;
+  }
   CellId previous = kNoCell;
   // Stochastic visibility walk: cross any facet that separates p from the pentatope, trying the
   // facets from a random start so that the walk cannot cycle.
+  std::uint64_t& rng = ws.walk_rng;
   while (true) {
-    walk_rng_ ^= walk_rng_ << 13;
-    walk_rng_ ^= walk_rng_ >> 7;
-    walk_rng_ ^= walk_rng_ << 17;
-    const int first = static_cast<int>(walk_rng_ % 5);
+    rng ^= rng << 13;
+    rng ^= rng >> 7;
+    rng ^= rng << 17;
+    const int first = static_cast<int>(rng % 5);
     const Pentatope& cell = store_.cell(c);
     CellId next = kNoCell;
     for (int k = 0; k < 5; ++k) {
@@ -106,6 +130,7 @@ CellId Triangulation::locate(const Point4& p, CellId hint) const {
       }
     }
     if (next == kNoCell) return c;
+    if (guard && !guard->acquire(next)) return kNoCell;
     previous = c;
     c = next;
     if (store_.is_infinite(c)) return c;  // p is strictly beyond this hull facet
@@ -113,6 +138,11 @@ CellId Triangulation::locate(const Point4& p, CellId hint) const {
 }
 
 void Triangulation::find_cavity(const Point4& p, VertexId pid, CellId start, Cavity& cavity) {
+  find_cavity(p, pid, start, cavity, nullptr);
+}
+
+bool Triangulation::find_cavity(const Point4& p, VertexId pid, CellId start, Cavity& cavity,
+                                CellGuard* guard) {
   const std::uint32_t in_cavity = next_stamp();
   const std::uint32_t rejected = in_cavity + 1;
   cavity.cells.clear();
@@ -128,6 +158,7 @@ void Triangulation::find_cavity(const Point4& p, VertexId pid, CellId start, Cav
       Pentatope& neighbor = store_.cell(d);
       if (neighbor.mark == in_cavity) continue;
       if (neighbor.mark != rejected) {
+        if (guard && !guard->acquire(d)) return false;
         if (in_conflict(d, p, pid)) {
           neighbor.mark = in_cavity;
           cavity.cells.push_back(d);
@@ -140,20 +171,22 @@ void Triangulation::find_cavity(const Point4& p, VertexId pid, CellId start, Cav
       cavity.boundary.push_back({c, i});
     }
   }
+  return true;
 }
 
-CellId Triangulation::commit(const Cavity& cavity, VertexId pid) {
+CellId Triangulation::commit(const Cavity& cavity, VertexId pid, Workspace& ws) {
   // Pass 1: one new pentatope per boundary facet (the facet joined to the new vertex, in the
   // slot of the vertex it replaces, which keeps the orientation positive). The cavity
   // pentatope's neighbor slot is overwritten with the new pentatope: pass 2 reads it there.
-  std::vector<CellId>& created = created_;
+  std::vector<CellId>& created = ws.created;
+  CellAllocator& cells = *ws.cells;
   created.clear();
   for (const Cavity::Facet& f : cavity.boundary) {
     Pentatope& old_cell = store_.cell(f.cell);
     VertexId v[5] = {old_cell.v[0], old_cell.v[1], old_cell.v[2], old_cell.v[3], old_cell.v[4]};
     v[f.index] = pid;
     const CellId outside = old_cell.n[f.index];
-    const CellId n = store_.create_cell(v);
+    const CellId n = store_.create_cell(v, cells);
     store_.cell(n).n[f.index] = outside;
     Pentatope& out = store_.cell(outside);
     out.n[store_.neighbor_index(outside, f.cell)] = n;
@@ -179,7 +212,8 @@ CellId Triangulation::commit(const Cavity& cavity, VertexId pid) {
       }
     k = end;
   }
-  ridges_.begin(2 * created.size());  // each ridge is offered twice: at most 2 per new cell
+  RidgeTable& ridges = ws.ridges;
+  ridges.begin(2 * created.size());  // each ridge is offered twice: at most 2 per new cell
   for (std::size_t k = 0; k < created.size(); ++k) {
     const CellId n = created[k];
     const int slot_p = cavity.boundary[k].index;
@@ -188,7 +222,7 @@ CellId Triangulation::commit(const Cavity& cavity, VertexId pid) {
       if (j == slot_p || cell.n[j] != kNoCell) continue;
       const auto& slots = kRidgeSlots[slot_p][j];
       VertexId r[3] = {cell.v[slots[0]], cell.v[slots[1]], cell.v[slots[2]]};
-      const RidgeTable::Match match = ridges_.pair(r, n, j);
+      const RidgeTable::Match match = ridges.pair(r, n, j);
       if (match.cell != kNoCell) {
         cell.n[j] = match.cell;
         store_.cell(match.cell).n[match.slot] = n;
@@ -198,8 +232,8 @@ CellId Triangulation::commit(const Cavity& cavity, VertexId pid) {
 
   for (CellId n : created)
     for (VertexId u : store_.cell(n).v) store_.vertex(u).cell = n;
-  for (CellId c : cavity.cells) store_.destroy_cell(c);
-  any_cell_ = created.front();
+  for (CellId c : cavity.cells) store_.destroy_cell(c, cells);
+  any_cell_.store(created.front(), std::memory_order_relaxed);
   return created.front();
 }
 
@@ -213,9 +247,8 @@ Triangulation::InsertResult Triangulation::insert(const Point4& p, VertexKind ki
     for (VertexId u : store_.cell(located).v)
       if (store_.point(u) == p) return {u, false, located};
   }
-  const VertexId v = store_.add_vertex(p, kind);
-  ++vertex_count_;
-  Cavity& cavity = scratch_cavity_;
+  const VertexId v = new_vertex(p, kind, 0);
+  Cavity& cavity = own_.cavity;
   find_cavity(p, v, located, cavity);
   const CellId c = commit(cavity, v);
   return {v, true, c};
@@ -224,8 +257,8 @@ Triangulation::InsertResult Triangulation::insert(const Point4& p, VertexKind ki
 void Triangulation::insert_vertex_into_mesh(VertexId v, CellId hint, CellId* last) {
   const Point4 p = store_.point(v);
   const CellId located = locate(p, hint);
-  find_cavity(p, v, located, scratch_cavity_);
-  *last = commit(scratch_cavity_, v);
+  find_cavity(p, v, located, own_.cavity);
+  *last = commit(own_.cavity, v);
 }
 
 std::vector<VertexId> Triangulation::insert_all(std::span<const Point4> points, VertexKind kind) {

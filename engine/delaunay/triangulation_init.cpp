@@ -40,8 +40,7 @@ int affine_rank(const std::vector<const Point4*>& pts) {
 Triangulation::InsertResult Triangulation::insert_pending(const Point4& p, VertexKind kind) {
   for (VertexId u : pending_)
     if (store_.point(u) == p) return {u, false, kNoCell};
-  const VertexId v = store_.add_vertex(p, kind);
-  ++vertex_count_;
+  const VertexId v = new_vertex(p, kind, 0);
   pending_.push_back(v);
   try_build_initial_simplex();
   return {v, true, dimension_ == 4 ? store_.vertex(v).cell : kNoCell};
@@ -69,7 +68,7 @@ void Triangulation::try_build_initial_simplex() {
   for (VertexId u : pending_)
     if (std::find(basis.begin(), basis.end(), u) == basis.end()) rest.push_back(u);
   pending_.clear();
-  CellId hint = any_cell_;
+  CellId hint = any_cell();
   for (VertexId u : rest) insert_vertex_into_mesh(u, hint, &hint);
 }
 

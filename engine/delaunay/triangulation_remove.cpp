@@ -30,9 +30,10 @@ FacetKey facet_key(const Pentatope& cell, int opposite) {
 
 }  // namespace
 
-void Triangulation::collect_star(VertexId v, std::vector<CellId>& star) const {
+bool Triangulation::collect_star(VertexId v, std::vector<CellId>& star, CellGuard* guard) const {
   star.clear();
   star.push_back(store_.vertex(v).cell);
+  if (guard && !guard->acquire(star[0])) return false;
   // Neighbors across facets that contain v are incident to v too. A star has some 30 to 150
   // pentatopes: the ones seen go in a small open-addressing set (a linear search of the star
   // for each neighbor was 5 % of the refinement). Local, so that const readers may run at once.
@@ -58,21 +59,33 @@ void Triangulation::collect_star(VertexId v, std::vector<CellId>& star) const {
     for (int i = 0; i < 5; ++i) {
       if (cell.v[i] == v) continue;
       const CellId d = cell.n[i];
-      if (insert(d)) star.push_back(d);
+      if (insert(d)) {
+        if (guard && !guard->acquire(d)) return false;
+        star.push_back(d);
+      }
     }
   }
+  return true;
 }
 
 bool Triangulation::remove(VertexId v, std::vector<CellId>* created) {
-  if (dimension_ < 4 || v == kInfiniteVertex || v >= store_.vertex_slots()) return false;
-  const Vertex& vertex = store_.vertex(v);
-  if (vertex.kind == VertexKind::removed || vertex.cell == kNoCell) return false;
+  return remove(v, created, own_, nullptr) == RemoveResult::removed;
+}
 
+Triangulation::RemoveResult Triangulation::remove(VertexId v, std::vector<CellId>* created,
+                                                  Workspace& ws, CellGuard* guard) {
+  if (dimension_ < 4 || v == kInfiniteVertex || v >= store_.vertex_slots())
+    return RemoveResult::refused;
+  const Vertex& vertex = store_.vertex(v);
+  if (vertex.kind == VertexKind::removed || vertex.cell == kNoCell) return RemoveResult::refused;
+
+  // With a guard, the star's pentatopes are claimed (so all of v's link is held); the
+  // pentatopes beyond the link's facets share four held vertices and need no claim.
   std::vector<CellId> star;
-  collect_star(v, star);
+  if (!collect_star(v, star, guard)) return RemoveResult::conflict;
   std::vector<VertexId> link;
   for (CellId c : star) {
-    if (store_.is_infinite(c)) return false;  // a hull vertex: the hole would not be closed
+    if (store_.is_infinite(c)) return RemoveResult::refused;  // a hull vertex: hole not closable
     for (VertexId u : store_.cell(c).v)
       if (u != v) link.push_back(u);
   }
@@ -123,7 +136,7 @@ bool Triangulation::remove(VertexId v, std::vector<CellId>* created) {
   for (CellId c : fill) {
     VertexId ids[5];
     for (int i = 0; i < 5; ++i) ids[i] = global_id(ls.cell(c).v[i]);
-    to_global[c] = store_.create_cell(ids);
+    to_global[c] = store_.create_cell(ids, *ws.cells);
   }
   std::size_t glued = 0;
   for (CellId c : fill) {
@@ -149,12 +162,12 @@ bool Triangulation::remove(VertexId v, std::vector<CellId>* created) {
     for (VertexId u : store_.cell(g).v) store_.vertex(u).cell = g;
     if (created) created->push_back(g);
   }
-  for (CellId c : star) store_.destroy_cell(c);
+  for (CellId c : star) store_.destroy_cell(c, *ws.cells);
   store_.vertex(v).cell = kNoCell;
   store_.vertex(v).kind = VertexKind::removed;
-  --vertex_count_;
-  any_cell_ = to_global.begin()->second;
-  return true;
+  vertex_count_.fetch_sub(1, std::memory_order_relaxed);
+  any_cell_.store(to_global.begin()->second, std::memory_order_relaxed);
+  return RemoveResult::removed;
 }
 
 }  // namespace mesh4d::delaunay

@@ -16,7 +16,9 @@ struct Progress {
   std::uint64_t pentatopes = 0;               // finite pentatopes of the triangulation
   std::array<std::uint64_t, 5> insertions{};  // per rule R1..R5
   std::array<std::uint64_t, 5> removals{};
-  std::uint64_t rollbacks = 0;  // always 0 in the sequential refiner
+  std::uint64_t rollbacks = 0;    // operations undone on a lock conflict (parallel phases)
+  double contention_seconds = 0;  // thread time lost to conflicts: rolled-back work, waits
+  double idle_seconds = 0;        // thread time without work (load imbalance)
   double elapsed_seconds = 0;
 };
 

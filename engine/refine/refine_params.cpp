@@ -31,6 +31,7 @@ void validate(const RefineParams& p) {
           p.max_interior_radius, "must be finite and ≥ 0 (0: no bound)");
   require(std::isfinite(p.junction_spacing) && p.junction_spacing >= 0 && p.junction_spacing <= 1,
           "junction_spacing", p.junction_spacing, "must be in [0, 1] (0: off)");
+  require(p.threads >= 1 && p.threads <= 1024, "threads", double(p.threads), "must be in 1..1024");
   require(p.vertex_budget >= 16, "vertex_budget", double(p.vertex_budget),
           "must be at least 16 (the box corners)");
 }

@@ -19,12 +19,14 @@ struct RefineParams {
   double sliver_bound = 0.01;      // normalized volume below which a pentatope is a sliver
   double max_interior_radius = 0;  // sizing bound on circumradius inside Ω; 0: none
   RuleOrder rule_order = RuleOrder::r3_first;
-  std::uint64_t seed = 1;                   // of the random picking: same seed, same mesh
+  std::uint64_t seed = 1;  // of the random picking: same seed and 1 thread, same mesh
   std::uint64_t vertex_budget = 5'000'000;  // refinement stops with an error past this
   // Where three labels meet, sample their junction first, points this far apart relative to Δ
   // (refiner_junctions.cpp). Off by default: on the patients it did not reduce the pinches (most
   // are on the cavity-myocardium interface, away from junctions; docs/performance.md).
   double junction_spacing = 0;
+  // Worker threads sharing the triangulation (refiner_parallel.cpp); 1: the sequential path.
+  unsigned threads = 1;
 };
 
 /// Bad parameters: the message names the parameter and the accepted range.

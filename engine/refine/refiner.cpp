@@ -19,6 +19,9 @@ namespace {
 constexpr auto kReportInterval = std::chrono::milliseconds(200);
 constexpr int kRepairRounds = 40;  // of pinch repair, each followed by the rules
 constexpr int kUnpinchRounds = 4;  // of free-vertex removal where relabeling is stuck
+// The id a trial point's cavity is computed with in a parallel phase, where the next id is not
+// known: the newest of all, as the point would be in a sequential run.
+constexpr VertexId kProvisionalId = delaunay::kNoVertex - 1;
 
 double distance(const Point4& a, const Point4& b) {
   double d = 0;
@@ -29,8 +32,10 @@ double distance(const Point4& a, const Point4& b) {
 }  // namespace
 
 Refiner::Refiner(const domain::SurfaceOracle& oracle, const RefineParams& params)
-    : oracle_(oracle), params_(params), features_(params.delta), rng_(params.seed) {
+    : oracle_(oracle), params_(params), features_(params.delta) {
   validate(params_);
+  workers_.push_back(std::make_unique<Worker>(tri_, 0, params_.seed));
+  workers_[0]->ws = &tri_.workspace();
 }
 
 void Refiner::insert_box() {
@@ -80,7 +85,7 @@ bool Refiner::ball_meets_surface(const Point4& center, double radius,
 }
 
 void Refiner::update_info(CellId c) {
-  if (c >= info_.size()) info_.resize(tri_.store().cell_slots());
+  info_.ensure(std::size_t{c} + 1);
   CellInfo& info = info_[c];
   info.finite = false;
   if (tri_.store().is_infinite(c)) return;
@@ -92,10 +97,13 @@ void Refiner::update_info(CellId c) {
   info.finite = true;
 }
 
-void Refiner::admit(const std::vector<CellId>& cells) {
-  if (tracking_) touched_.insert(touched_.end(), cells.begin(), cells.end());
+void Refiner::admit(Worker& w, const std::vector<CellId>& cells) {
+  if (tracking_) {
+    std::vector<CellId>& touched = w.guard ? w.touched : touched_;
+    touched.insert(touched.end(), cells.begin(), cells.end());
+  }
   for (CellId c : cells) update_info(c);
-  for (CellId c : cells) enqueue(c);
+  for (CellId c : cells) enqueue(w, c);
 }
 
 bool Refiner::has_restricted_non_feature_facet(CellId c) const {
@@ -131,7 +139,7 @@ Refiner::Rule Refiner::quick_rule(CellId c) const {
   return kNone;
 }
 
-Refiner::Rule Refiner::classify(CellId c, Point4* point, VertexKind* kind) {
+Refiner::Rule Refiner::classify(Worker& w, CellId c, Point4* point, VertexKind* kind) {
   const CellInfo& info = info_[c];
   if (!info.finite) return kNone;
   const auto s = simplex_of(c);
@@ -145,9 +153,10 @@ Refiner::Rule Refiner::classify(CellId c, Point4* point, VertexKind* kind) {
   // A feature vertex f with |center − f| + r < Δ puts the whole ball within Δ of f: then no
   // surface point in it can be an R1 point, and r < Δ rules out R2; skip the cfp.
   domain::SurfaceBracket z;
-  if ((r >= params_.delta || !features_.any_within(center, params_.delta - r)) &&
+  if ((r >= params_.delta || !feature_within(center, params_.delta - r)) &&
       ball_meets_surface(center, r, &z)) {
-    if (!features_.any_within(z.middle().point, params_.delta)) {
+    if (!feature_within(z.middle().point, params_.delta)) {
+      w.r1_sample = z.middle().point;
       *point = oracle_.pinpoint(z).point;
       *kind = VertexKind::feature;
       return kR1;
@@ -160,14 +169,14 @@ Refiner::Rule Refiner::classify(CellId c, Point4* point, VertexKind* kind) {
   }
   if (bad_ratio) return kR3;
   if (inside && delaunay::normalized_volume(s) < params_.sliver_bound) {
-    *point = pick_from_region(c, center, r);
+    *point = pick_from_region(w, c, center, r);
     return kR4;
   }
   if (inside && params_.max_interior_radius > 0 && r > params_.max_interior_radius) return kSizing;
   Point4 surface_center;
   double surface_radius;
   if (find_restricted_facet(c, &surface_center, &surface_radius)) {
-    *point = pick_on_surface(c, surface_center, surface_radius);
+    *point = pick_on_surface(w, c, surface_center, surface_radius);
     *kind = VertexKind::feature;
     return kR5;
   }
@@ -200,17 +209,19 @@ bool Refiner::find_restricted_facet(CellId c, Point4* surface_center,
   return false;
 }
 
-double Refiner::worst_new_quality(const Point4& p, CellId hint) {
+double Refiner::worst_new_quality(Worker& w, const Point4& p, CellId hint) {
   // The normalized volume of the worst pentatope that inserting p would create (its cavity is
   // computed, not committed); -1 for a point equal to a vertex.
-  const VertexId next_id = static_cast<VertexId>(tri_.store().vertex_slots());
-  const CellId located = tri_.locate(p, hint);
+  const VertexId next_id =
+      w.guard ? kProvisionalId : static_cast<VertexId>(tri_.store().vertex_slots());
+  const CellId located = tri_.locate(p, hint, *w.ws, w.guard);
+  if (located == delaunay::kNoCell) return w.conflict = true, -1;
   if (!tri_.store().is_infinite(located))
     for (VertexId v : tri_.store().cell(located).v)
       if (tri_.store().point(v) == p) return -1;
-  tri_.find_cavity(p, next_id, located, scratch_);
+  if (!tri_.find_cavity(p, next_id, located, w.trial, w.guard)) return w.conflict = true, -1;
   double worst = 1;
-  for (const auto& f : scratch_.boundary) {
+  for (const auto& f : w.trial.boundary) {
     if (tri_.store().is_infinite(f.cell)) continue;
     delaunay::Simplex4 s = simplex_of(f.cell);
     s[f.index] = p;
@@ -219,49 +230,53 @@ double Refiner::worst_new_quality(const Point4& p, CellId hint) {
   return worst;
 }
 
-Point4 Refiner::pick_on_surface(CellId c, const Point4& z, double radius) {
+Point4 Refiner::pick_on_surface(Worker& w, CellId c, const Point4& z, double radius) {
   // R5's picking region: points of ∂Ω within ζ·R of the surface center z. Trials are random
   // points of that ball pulled onto ∂Ω (cfp); z itself is the first.
   Point4 best = z;
-  double best_quality = worst_new_quality(z, c);
+  double best_quality = worst_new_quality(w, z, c);
   std::normal_distribution<double> gauss;
   std::uniform_real_distribution<double> uniform(0, 1);
   const double reach = params_.picking_ratio * radius;
-  for (unsigned trial = 1; trial < params_.picking_trials && best_quality < params_.sliver_bound;
+  for (unsigned trial = 1;
+       trial < params_.picking_trials && best_quality < params_.sliver_bound && !w.conflict;
        ++trial) {
     Point4 p;
     double n2 = 0;
-    for (double& x : p) x = gauss(rng_), n2 += x * x;
-    const double scale = reach * std::pow(uniform(rng_), 0.25) / std::sqrt(n2);
+    for (double& x : p) x = gauss(w.rng), n2 += x * x;
+    const double scale = reach * std::pow(uniform(w.rng), 0.25) / std::sqrt(n2);
     for (int k = 0; k < 4; ++k) p[k] = z[k] + scale * p[k];
     const domain::SurfacePoint sq =
         oracle_.closest_surface_point(p, domain::SurfaceOracle::CfpMode::ray);
     const Point4 q = sq.point;
     if (sq.inner == sq.outer || distance(q, z) > reach || q != clamp_to_box(q)) continue;
-    const double quality = worst_new_quality(q, c);
+    const double quality = worst_new_quality(w, q, c);
     if (quality > best_quality) best_quality = quality, best = q;
   }
   return best;
 }
 
-void Refiner::remove_free_vertices_near(VertexId v, std::vector<CellId>& created) {
+bool Refiner::claim_free_vertices_near(Worker& w, const Point4& p) {
   // R5's second half: free vertices closer than Δ to the new surface point go, so that the
-  // surface is not approached too closely from inside (feature and box vertices stay).
-  const Point4 p = tri_.store().point(v);
-  std::vector<CellId> star;
-  tri_.incident_cells(v, star);
-  std::vector<VertexId> near;
-  for (CellId c : star)
-    for (VertexId u : tri_.store().cell(c).v)
-      if (u != v && tri_.store().vertex(u).kind == VertexKind::free &&
-          distance(tri_.store().point(u), p) < params_.delta &&
-          std::find(near.begin(), near.end(), u) == near.end())
-        near.push_back(u);
-  for (VertexId u : near)
-    if (tri_.remove(u, &created)) ++progress_.removals[kR5];
+  // surface is not approached too closely from inside (feature and box vertices stay). The new
+  // point's neighbors are exactly the vertices of its cavity. In a parallel phase their stars
+  // are claimed now, before the insertion commits: every pentatope the removals then touch is
+  // one of those or is made of claimed vertices, so the removals cannot meet a lock.
+  const auto& st = tri_.store();
+  w.near.clear();
+  for (CellId c : w.ws->cavity.cells)
+    for (VertexId u : st.cell(c).v)
+      if (u != kInfiniteVertex && st.vertex(u).kind == VertexKind::free &&
+          distance(st.point(u), p) < params_.delta &&
+          std::find(w.near.begin(), w.near.end(), u) == w.near.end())
+        w.near.push_back(u);
+  if (w.guard)
+    for (VertexId u : w.near)
+      if (!tri_.incident_cells(u, w.star, w.guard)) return false;
+  return true;
 }
 
-Point4 Refiner::pick_from_region(CellId c, const Point4& center, double radius) {
+Point4 Refiner::pick_from_region(Worker& w, CellId c, const Point4& center, double radius) {
   // R4's picking region: the ball of radius ζ·R around the circumcenter. Each trial point's
   // cavity is computed (without committing) and the new pentatopes it would make are measured;
   // the first point whose worst new pentatope is no sliver wins, else the best one tried.
@@ -272,13 +287,14 @@ Point4 Refiner::pick_from_region(CellId c, const Point4& center, double radius) 
   for (unsigned trial = 0; trial < params_.picking_trials; ++trial) {
     Point4 p;
     double n2 = 0;
-    for (double& x : p) x = gauss(rng_), n2 += x * x;
+    for (double& x : p) x = gauss(w.rng), n2 += x * x;
     // Uniform in the 4-ball: radius ∝ u^(1/4).
     const double scale =
-        params_.picking_ratio * radius * std::pow(uniform(rng_), 0.25) / std::sqrt(n2);
+        params_.picking_ratio * radius * std::pow(uniform(w.rng), 0.25) / std::sqrt(n2);
     for (int k = 0; k < 4; ++k) p[k] = center[k] + scale * p[k];
     if (p != clamp_to_box(p)) continue;
-    const double worst = worst_new_quality(p, c);
+    const double worst = worst_new_quality(w, p, c);
+    if (w.conflict) break;
     if (worst < 0) continue;
     if (worst > best_quality) best_quality = worst, best = p;
     if (worst >= params_.sliver_bound) break;
@@ -286,93 +302,163 @@ Point4 Refiner::pick_from_region(CellId c, const Point4& center, double radius) 
   return best;
 }
 
-void Refiner::enqueue(CellId c) {
+void Refiner::enqueue(Worker& w, CellId c) {
   if (!tri_.store().is_live(c) || tri_.store().is_infinite(c)) return;
   const Rule rule = quick_rule(c);
   if (rule == kNone) return;
   Candidate k{c, {}};
   for (int i = 0; i < 5; ++i) k.v[i] = tri_.store().cell(c).v[i];
-  queues_[rule].push_back(k);
+  if (!w.guard) {
+    w.queues[rule].push_back(k);
+    return;
+  }
+  std::lock_guard lock(w.queue_mutex);
+  w.queues[rule].push_back(k);
 }
 
 bool Refiner::still_valid(const Candidate& k) const {
-  if (!tri_.store().is_live(k.cell)) return false;
-  const auto& cell = tri_.store().cell(k.cell);
-  for (int i = 0; i < 5; ++i)
-    if (cell.v[i] != k.v[i]) return false;
-  return true;
+  return tri_.store().still_holds(k.cell, k.v);
+}
+
+Progress Refiner::totals() const {
+  Progress sum = progress_;
+  for (const auto& w : workers_) {
+    for (int r = 0; r < 5; ++r) {
+      sum.insertions[r] += w->insertions[r].load(std::memory_order_relaxed);
+      sum.removals[r] += w->removals[r].load(std::memory_order_relaxed);
+    }
+    sum.rollbacks += w->rollbacks.load(std::memory_order_relaxed);
+    sum.contention_seconds += 1e-9 * double(w->contention_ns.load(std::memory_order_relaxed));
+    sum.idle_seconds += 1e-9 * double(w->idle_ns.load(std::memory_order_relaxed));
+  }
+  return sum;
 }
 
 void Refiner::report(ProgressSink* sink, Phase phase, bool force) {
   const auto now = std::chrono::steady_clock::now();
   if (!sink || (!force && now - last_report_ < kReportInterval)) return;
   last_report_ = now;
-  progress_.phase = phase;
-  progress_.vertices = tri_.number_of_vertices();
-  progress_.pentatopes = tri_.number_of_cells();  // includes the few infinite ones: cheap
-  progress_.elapsed_seconds = std::chrono::duration<double>(now - start_).count();
-  sink->on_progress(progress_);
+  Progress p = totals();
+  p.phase = phase;
+  p.vertices = tri_.number_of_vertices();
+  // Includes the few infinite ones (cheap); in a parallel phase, the workers' counts added.
+  std::int64_t cells = static_cast<std::int64_t>(tri_.number_of_cells());
+  if (workers_[0]->guard)
+    for (const auto& w : workers_) cells += w->live_cells.load(std::memory_order_relaxed);
+  p.pentatopes = static_cast<std::uint64_t>(std::max<std::int64_t>(cells, 0));
+  p.elapsed_seconds = std::chrono::duration<double>(now - start_).count();
+  sink->on_progress(p);
 }
 
-bool Refiner::insert_and_admit(const Point4& point, VertexKind kind, CellId hint, int rule) {
+Refiner::Outcome Refiner::insert_and_admit(Worker& w, const Point4& point, VertexKind kind,
+                                           CellId hint, int rule, const Point4* sample) {
   if (tri_.number_of_vertices() >= params_.vertex_budget) {
     std::ostringstream s;
     s << "refinement needs more than the vertex budget of " << params_.vertex_budget
       << " vertices; raise vertex_budget or delta";
     throw BudgetExceeded(s.str());
   }
-  const auto result = tri_.insert(point, kind, hint);
-  if (!result.inserted) return false;
-  if (kind == VertexKind::feature) features_.add(point);
-  ++progress_.insertions[rule];
-  std::vector<CellId> created;
-  if (rule == kR5) remove_free_vertices_near(result.vertex, created);
+  for (double x : point)
+    if (!std::isfinite(x)) throw std::logic_error("Refiner: non-finite point to insert");
+  const auto& st = tri_.store();
+  if (!w.guard && (hint == delaunay::kNoCell || !st.is_live(hint))) hint = tri_.any_cell();
+  // The steps of Triangulation::insert, with the checks of a concurrent operation between
+  // them: every lock is taken before the first write, so a conflict leaves nothing behind.
+  const CellId start = tri_.locate(point, hint, *w.ws, w.guard);
+  if (start == delaunay::kNoCell) return Outcome::conflict;
+  if (!st.is_infinite(start))
+    for (VertexId u : st.cell(start).v)
+      if (st.point(u) == point) return Outcome::skipped;
+  // The cavity is found with an id newer than any; the real id, taken only once nothing can
+  // roll back any more, is newer than every vertex of the claimed pentatopes too (their
+  // vertices were committed before this thread claimed them), so every tie-break is the same.
+  if (!tri_.find_cavity(point, kProvisionalId, start, w.ws->cavity, w.guard))
+    return Outcome::conflict;
+  if (rule == kR5 && !claim_free_vertices_near(w, point)) return Outcome::conflict;
+  if (kind == VertexKind::feature) {
+    // Another thread may have sampled ∂Ω nearby since the rule was decided.
+    std::unique_lock lock(features_mutex_);
+    if (sample && features_.any_within(*sample, params_.delta)) return Outcome::conflict;
+    features_.add(point);
+  }
+  const VertexId v = tri_.new_vertex(point, kind, w.guard ? w.locks.owner() : 0);
+  if (w.guard) w.locks.adopt(v);
+  tri_.commit(w.ws->cavity, v, *w.ws);
+  w.insertions[rule].fetch_add(1, std::memory_order_relaxed);
+  w.created.clear();
+  if (rule == kR5)
+    for (VertexId u : w.near)
+      if (tri_.remove(u, &w.created, *w.ws, w.guard) ==
+          delaunay::Triangulation::RemoveResult::removed)
+        w.removals[kR5].fetch_add(1, std::memory_order_relaxed);
   // The new pentatopes: the star of the new vertex, and what filled removed vertices' holes
   // (some of those may have died in a later removal).
-  tri_.incident_cells(result.vertex, fresh_);
-  for (CellId c : created)
-    if (tri_.store().is_live(c)) fresh_.push_back(c);
-  std::sort(fresh_.begin(), fresh_.end());
-  fresh_.erase(std::unique(fresh_.begin(), fresh_.end()), fresh_.end());
-  admit(fresh_);
-  return true;
+  tri_.incident_cells(v, w.fresh);
+  for (CellId c : w.created)
+    if (st.is_live(c)) w.fresh.push_back(c);
+  std::sort(w.fresh.begin(), w.fresh.end());
+  w.fresh.erase(std::unique(w.fresh.begin(), w.fresh.end()), w.fresh.end());
+  admit(w, w.fresh);
+  return Outcome::done;
+}
+
+Refiner::Outcome Refiner::process(Worker& w, const Candidate& k) {
+  if (w.guard)
+    for (VertexId u : k.v)
+      if (!w.locks.lock(u)) return Outcome::conflict;
+  if (!still_valid(k)) return Outcome::skipped;
+  Point4 point;
+  VertexKind kind;
+  w.conflict = false;
+  const Rule rule = classify(w, k.cell, &point, &kind);
+  if (w.conflict) return Outcome::conflict;
+  if (rule == kNone) return Outcome::skipped;
+  // The computed circumcenter of a nearly degenerate pentatope (five surface points on one
+  // voxel plane, nearly co-spherical) can lie outside its exact circumsphere; a point placed
+  // from it then leaves the pentatope in place. Its centroid is inside it, so in conflict.
+  const VertexId next_id =
+      w.guard ? kProvisionalId : static_cast<VertexId>(tri_.store().vertex_slots());
+  if (kind == VertexKind::free && !tri_.in_conflict(k.cell, point, next_id))
+    point = centroid_of(k.cell);
+  const Outcome outcome = insert_and_admit(w, point, kind, k.cell, rule == kSizing ? kR3 : rule,
+                                           rule == kR1 ? &w.r1_sample : nullptr);
+  // A pentatope that survives its operation (not in conflict with a surface point) is
+  // classified again; each retry follows an insertion, so the vertex budget bounds them.
+  if (outcome == Outcome::done && still_valid(k)) enqueue(w, k.cell);
+  return outcome;
 }
 
 void Refiner::drain(ProgressSink* sink) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (params_.threads > 1)
+    drain_parallel(sink);
+  else
+    drain_sequential(sink);
+  rules_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void Refiner::drain_sequential(ProgressSink* sink) {
   // Priority: the order of the rules (R3 first by default), through one stack per rule.
+  Worker& w = *workers_[0];
   const std::array<Rule, 6> order = params_.rule_order == RuleOrder::r3_first
                                         ? std::array<Rule, 6>{kR3, kR1, kR2, kR4, kSizing, kR5}
                                         : std::array<Rule, 6>{kR1, kR2, kR3, kR4, kSizing, kR5};
   while (true) {
     std::vector<Candidate>* queue = nullptr;
     for (Rule r : order)
-      if (!queues_[r].empty()) {
-        queue = &queues_[r];
+      if (!w.queues[r].empty()) {
+        queue = &w.queues[r];
         break;
       }
     if (!queue) return;
     const Candidate k = queue->back();
     queue->pop_back();
     if (!still_valid(k)) continue;
-
-    if (++operations_ % 256 == 0) {
+    if (++w.operations % 256 == 0) {
       if (sink && sink->should_abort()) throw Cancelled();
       report(sink, Phase::refining, false);
     }
-    Point4 point;
-    VertexKind kind;
-    const Rule rule = classify(k.cell, &point, &kind);
-    if (rule == kNone) continue;
-    // The computed circumcenter of a nearly degenerate pentatope (five surface points on one
-    // voxel plane, nearly co-spherical) can lie outside its exact circumsphere; a point placed
-    // from it then leaves the pentatope in place. Its centroid is inside it, so in conflict.
-    if (kind == VertexKind::free &&
-        !tri_.in_conflict(k.cell, point, static_cast<VertexId>(tri_.store().vertex_slots())))
-      point = centroid_of(k.cell);
-    // A pentatope that survives its operation (not in conflict with a surface point) is
-    // classified again; each retry follows an insertion, so the vertex budget bounds them.
-    if (insert_and_admit(point, kind, k.cell, rule == kSizing ? kR3 : rule) && still_valid(k))
-      enqueue(k.cell);
+    process(w, k);
   }
 }
 
@@ -418,10 +504,15 @@ RefineResult Refiner::run(ProgressSink* sink) {
     result.warnings.push_back(s.str());
   }
   result.stats = mesh::compute_stats(result.mesh);
+  const Progress done = totals();
   for (int r = 0; r < 5; ++r) {
-    result.stats.insertions[r] = progress_.insertions[r];
-    result.stats.removals[r] = progress_.removals[r];
+    result.stats.insertions[r] = done.insertions[r];
+    result.stats.removals[r] = done.removals[r];
   }
+  result.rollbacks = done.rollbacks;
+  result.contention_seconds = done.contention_seconds;
+  result.idle_seconds = done.idle_seconds;
+  result.rules_seconds = rules_seconds_;
   result.stats.elapsed_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   return result;

@@ -7,16 +7,23 @@
 // paper's guarantee (for one label) does not hold: a bounded pinch repair (refiner_junctions.cpp)
 // samples ∂Ω where a region's boundary is not a manifold, and what it leaves is closed by moving
 // a few pentatopes whose vertices all lie on ∂Ω to a neighboring label (refiner_relabel.cpp).
-// Not yet fast enough (issue 5's target).
+// With RefineParams::threads > 1 the rules run on worker threads sharing the triangulation
+// (refiner_parallel.cpp); the repair and relabeling between those phases stay on one thread.
 #pragma once
 
+#include <atomic>
 #include <chrono>
+#include <memory>
+#include <mutex>
 #include <random>
+#include <shared_mutex>
 #include <string>
 #include <vector>
 
+#include "delaunay/chunked_array.h"
 #include "delaunay/geometry.h"
 #include "delaunay/triangulation.h"
+#include "delaunay/vertex_locks.h"
 #include "domain/surface_oracle.h"
 #include "mesh/mesh4.h"
 #include "mesh/mesh_stats.h"
@@ -33,6 +40,11 @@ struct RefineResult {
   // Pentatopes given a neighbor's label to close a pinch (refiner_relabel.cpp): their
   // circumcenter lies in another label, within their small circumball of the junction.
   std::size_t relabeled = 0;
+  // The parallel phases' overheads (Progress): all 0 with one thread.
+  std::uint64_t rollbacks = 0;
+  double contention_seconds = 0;
+  double idle_seconds = 0;
+  double rules_seconds = 0;  // spent applying the rules (the part that runs on the workers)
 };
 
 class Refiner {
@@ -53,6 +65,35 @@ class Refiner {
     mesh4d::VertexId v[5];  // to recognize a reused cell id
   };
   enum Rule { kR1, kR2, kR3, kR4, kR5, kSizing, kNone };
+  // What one thread of refinement owns. The single-threaded rules use worker 0 without locks;
+  // in a parallel phase each thread has one, with its own workspace, locks and queues.
+  struct Worker {
+    Worker(delaunay::Triangulation& tri, unsigned id, std::uint64_t seed)
+        : index(id), locks(tri.store(), id + 1), rng(seed) {}
+    unsigned index;
+    delaunay::CellAllocator cells;  // its pentatope slots in a parallel phase
+    delaunay::Triangulation::Workspace own_ws{&cells};
+    delaunay::Triangulation::Workspace* ws = nullptr;  // own_ws, or the triangulation's
+    delaunay::VertexLocks locks;
+    delaunay::CellGuard* guard = nullptr;  // &locks in a parallel phase
+    bool conflict = false;                 // the current operation met another thread's lock
+    Point4 r1_sample{};                    // classify()'s R1 surface point, before pinpointing
+    std::mt19937_64 rng;                   // of the picking regions
+    delaunay::Cavity trial;                // trial cavities of the picking regions
+    std::vector<delaunay::CellId> fresh, created, star;
+    std::vector<mesh4d::VertexId> near;
+    std::vector<delaunay::CellId> touched;             // new pentatopes while tracking_
+    std::mutex queue_mutex;                            // the queues, which thieves also take from
+    std::array<std::vector<Candidate>, kNone> queues;  // one stack per rule
+    std::vector<std::pair<Candidate, Rule>> retry;     // rolled back; again when the queues run dry
+    std::uint64_t operations = 0;
+    unsigned consecutive_rollbacks = 0;
+    // Counters, read by the reporting thread while this one writes them.
+    std::array<std::atomic<std::uint64_t>, 5> insertions{}, removals{};
+    std::atomic<std::uint64_t> rollbacks{0}, contention_ns{0}, idle_ns{0};
+    std::atomic<std::int64_t> live_cells{0};  // cells.live, published after each operation
+  };
+  enum class Outcome { done, skipped, conflict };
   // What every rule asks of a pentatope, computed once when it is created: its circumball and
   // the label at its center (valid for every live finite cell; slots are reused, so it is
   // recomputed for each new cell in admit()).
@@ -78,24 +119,44 @@ class Refiner {
   // Feature vertices on every triple junction, RefineParams::junction_spacing · Δ apart.
   void insert_junctions();
   // New pentatopes: their info first (neighbors' labels are read by the R5 check), then queued.
-  void admit(const std::vector<delaunay::CellId>& cells);
+  void admit(Worker& w, const std::vector<delaunay::CellId>& cells);
+  void admit(const std::vector<delaunay::CellId>& cells) { admit(*workers_[0], cells); }
   void update_info(delaunay::CellId c);
-  void enqueue(delaunay::CellId c);
+  void enqueue(Worker& w, delaunay::CellId c);
   bool has_restricted_non_feature_facet(delaunay::CellId c) const;
   Rule quick_rule(delaunay::CellId c) const;  // a cheap priority guess, confirmed when popped
   bool still_valid(const Candidate& k) const;
   // Decides what to do with a live pentatope: the rule that applies and the point to insert.
-  Rule classify(delaunay::CellId c, Point4* point, delaunay::VertexKind* kind);
-  Point4 pick_from_region(delaunay::CellId c, const Point4& center, double radius);
+  Rule classify(Worker& w, delaunay::CellId c, Point4* point, delaunay::VertexKind* kind);
+  Point4 pick_from_region(Worker& w, delaunay::CellId c, const Point4& center, double radius);
   bool find_restricted_facet(delaunay::CellId c, Point4* surface_center,
                              double* surface_radius) const;
-  Point4 pick_on_surface(delaunay::CellId c, const Point4& z, double radius);
-  double worst_new_quality(const Point4& p, delaunay::CellId hint);
-  void remove_free_vertices_near(mesh4d::VertexId v, std::vector<delaunay::CellId>& created);
+  Point4 pick_on_surface(Worker& w, delaunay::CellId c, const Point4& z, double radius);
+  // -1 for a point equal to a vertex; sets w.conflict (and returns -1) on another's lock.
+  double worst_new_quality(Worker& w, const Point4& p, delaunay::CellId hint);
+  // The free vertices of the cavity closer than Δ to p (R5 removes them), into w.near; in a
+  // parallel phase their stars are claimed too. False on a conflict.
+  bool claim_free_vertices_near(Worker& w, const Point4& p);
+  // Whether a feature vertex lies within r of p (the index is shared by the workers).
+  bool feature_within(const Point4& p, double r) const {
+    std::shared_lock lock(features_mutex_);
+    return features_.any_within(p, r);
+  }
   bool ball_meets_surface(const Point4& center, double radius, domain::SurfaceBracket* cfp) const;
   Point4 clamp_to_box(const Point4& p) const;
-  // Applies the rules until none does.
+  // Applies the rules until none does: on this thread, or on RefineParams::threads workers.
   void drain(ProgressSink* sink);
+  void drain_sequential(ProgressSink* sink);
+  void drain_parallel(ProgressSink* sink);
+  // One thread of a parallel phase (refiner_parallel.cpp).
+  struct Shared;
+  void work(Worker& w, Shared& shared, ProgressSink* sink);
+  bool pop(Worker& w, Candidate* k, Rule* rule);
+  bool steal(Worker& w, Shared& shared);
+  void distribute_work(unsigned threads);  // all queued work split among the workers
+  // Pops and applies one candidate: locks its pentatope (in a parallel phase), classifies it,
+  // inserts the rule's point. The caller releases the locks.
+  Outcome process(Worker& w, const Candidate& k);
   // Inserts surface points where a label's region boundary is pinched (a triangle in four or
   // more of its boundary tetrahedra, seen where three labels meet), none closer than
   // `min_spacing` to a feature vertex; returns how many.
@@ -147,28 +208,33 @@ class Refiner {
   // around it from `start`, which must contain it.
   void pinches_at(delaunay::CellId start, const std::array<mesh4d::VertexId, 3>& t,
                   std::vector<PinchedTriangle>* pinched) const;
-  bool insert_and_admit(const Point4& p, delaunay::VertexKind kind, delaunay::CellId hint,
-                        int rule);
+  // Inserts p (and, for R5, removes the free vertices near it), then admits the new
+  // pentatopes. With `sample` (R1: the surface point whose Δ-ball classify() found free of
+  // feature vertices), that ball is checked again under the index's lock, since another thread
+  // may have added one since. Outcome::skipped when p is already a vertex; conflict on another
+  // thread's lock or a feature now in the ball (nothing written then).
+  Outcome insert_and_admit(Worker& w, const Point4& p, delaunay::VertexKind kind,
+                           delaunay::CellId hint, int rule, const Point4* sample = nullptr);
   void report(ProgressSink* sink, Phase phase, bool force);
+  Progress totals() const;  // the workers' counters summed
   mesh::Mesh4 extract(std::vector<std::string>& warnings) const;
 
   const domain::SurfaceOracle& oracle_;
   RefineParams params_;
   delaunay::Triangulation tri_;
-  std::vector<CellInfo> info_;  // by cell id
+  delaunay::ChunkedArray<CellInfo> info_;  // by cell id; blocks never move (parallel phases)
   std::array<Point4, 2> box_;
-  std::array<std::vector<Candidate>, kNone> queues_;  // one stack per rule
+  std::vector<std::unique_ptr<Worker>> workers_;  // [0] also serves single-threaded work
+  bool concurrent_ready_ = false;                 // storage prepared for parallel phases
   FeatureIndex features_;
+  mutable std::shared_mutex features_mutex_;
   bool tracking_ = false;                       // admit() records new pentatopes in touched_
   std::vector<delaunay::CellId> touched_;       // since the last pinch count
   std::vector<PinchedTriangle> known_pinches_;  // found by the last pinch count
   std::vector<bool> shifted_;  // by cell: moved by relabel_pinches() without lowering the count
-  std::mt19937_64 rng_;        // of the picking regions, seeded by RefineParams::seed
-  delaunay::Cavity scratch_;   // trial cavities of the picking regions
   Progress progress_;
-  std::uint64_t operations_ = 0;
-  std::vector<delaunay::CellId> fresh_;  // scratch: the pentatopes an operation made
   std::chrono::steady_clock::time_point start_, last_report_;
+  double rules_seconds_ = 0;
 };
 
 }  // namespace mesh4d::refine

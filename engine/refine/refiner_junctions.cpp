@@ -254,8 +254,9 @@ std::size_t Refiner::repair_pinches(double min_spacing) {
   std::size_t inserted = 0;
   for (const auto& [p, hint] : points) {
     // A point already sampled nearby would make a short edge and change little.
-    if (features_.any_within(p, min_spacing)) continue;
-    inserted += insert_and_admit(p, VertexKind::feature, hint, kR1);  // a dead hint is ignored
+    if (feature_within(p, min_spacing)) continue;
+    // (A dead hint is ignored.)
+    inserted += insert_and_admit(*workers_[0], p, VertexKind::feature, hint, kR1) == Outcome::done;
   }
   return inserted;
 }

@@ -1,0 +1,132 @@
+// The checks of a refined mesh that the sequential and the parallel refiner's tests share.
+#include "refine/refine_checks.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "delaunay/geometry.h"
+#include "domain/phantoms.h"
+#include "mesh/mesh_check.h"
+#include "refine/boundary_distance.h"
+#include "refine/refiner.h"
+
+namespace mesh4d::refine {
+
+double output_volume(const mesh::Mesh4& m, mesh::Label label) {
+  double v = 0;
+  for (std::size_t i = 0; i < m.pentatopes.size(); ++i) {
+    if (label && m.labels[i] != label) continue;
+    delaunay::Simplex4 s;
+    for (int k = 0; k < 5; ++k) s[k] = m.vertices[m.pentatopes[i][k]];
+    v += std::abs(delaunay::signed_volume(s));
+  }
+  return v;
+}
+
+double voxel_volume(const domain::LabelImage4& image, domain::Label label) {
+  double n = 0;
+  for (std::size_t i = 0; i < image.voxel_count(); ++i) n += image.at(i) == label;
+  const auto& s = image.spacing();
+  return n * s[0] * s[1] * s[2] * s[3];
+}
+
+void expect_fidelity(const mesh::Mesh4& m, const domain::SurfaceOracle& oracle,
+                     const std::vector<domain::Label>& labels, double max_distance) {
+  std::size_t off_surface = 0;
+  for (const auto& b : m.boundary)
+    for (auto v : b.vertices) {
+      ASSERT_EQ(m.vertex_kinds[v], mesh::VertexKind::feature) << "boundary vertex " << v;
+      std::vector<double> weights;
+      for (auto l : labels) weights.push_back(oracle.cut_value(m.vertices[v], l, 65535));
+      std::sort(weights.rbegin(), weights.rend());
+      off_surface += weights[0] - weights[1] > 1e-6;
+    }
+  EXPECT_EQ(off_surface, 0u);
+  const mesh::BoundaryCheck check = mesh::check_boundary(m);
+  const BoundaryDistance distance = measure_boundary_distance(m, oracle);
+  std::printf(
+      "boundary triangles: %zu, in an odd number of facets: %zu, pinched (4 or more): %zu; "
+      "distance to ∂Ω over %zu samples: max %.3f mean %.3f\n",
+      check.triangles, check.odd, check.pinched, distance.samples, distance.max, distance.mean);
+  EXPECT_EQ(check.non_feature_uses, 0u);
+  EXPECT_EQ(check.odd, 0u);
+  EXPECT_EQ(check.pinched, 0u);
+  EXPECT_GT(distance.samples, 0u);
+  EXPECT_LE(distance.max, max_distance);
+}
+
+std::size_t unmeshed_components(const domain::LabelImage4& image, const mesh::Mesh4& m,
+                                std::size_t* components) {
+  const auto& d = image.dims();
+  const std::size_t stride[4] = {1, d[0], d[0] * d[1], d[0] * d[1] * d[2]};
+  std::vector<std::int64_t> component(image.voxel_count(), -1);
+  std::size_t count = 0;
+  for (std::size_t seed = 0; seed < image.voxel_count(); ++seed) {
+    if (image.at(seed) == 0 || component[seed] >= 0) continue;
+    std::vector<std::size_t> stack{seed};
+    component[seed] = static_cast<std::int64_t>(count);
+    while (!stack.empty()) {
+      const std::size_t i = stack.back();
+      stack.pop_back();
+      std::size_t rest = i;
+      for (int a = 3; a >= 0; --a) {
+        const std::size_t coord = rest / stride[a];
+        rest %= stride[a];
+        for (int step : {-1, 1}) {
+          if ((step < 0 && coord == 0) || (step > 0 && coord + 1 == d[a])) continue;
+          const std::size_t j = step < 0 ? i - stride[a] : i + stride[a];
+          if (image.at(j) != image.at(seed) || component[j] >= 0) continue;
+          component[j] = static_cast<std::int64_t>(count);
+          stack.push_back(j);
+        }
+      }
+    }
+    ++count;
+  }
+  std::vector<bool> meshed(count, false);
+  for (std::size_t p = 0; p < m.pentatopes.size(); ++p) {
+    delaunay::Simplex4 s;
+    for (int k = 0; k < 5; ++k) s[k] = m.vertices[m.pentatopes[p][k]];
+    const auto at = image.to_index(delaunay::circumcenter(s));
+    std::size_t index = 0;
+    bool in_image = true;
+    for (int a = 0; a < 4; ++a) {
+      const double x = std::round(at[a]);
+      if (x < 0 || x >= static_cast<double>(d[a])) in_image = false;
+      index += in_image ? static_cast<std::size_t>(x) * stride[a] : 0;
+    }
+    if (in_image && image.at(index) == m.labels[p] && component[index] >= 0)
+      meshed[static_cast<std::size_t>(component[index])] = true;
+  }
+  *components = count;
+  return static_cast<std::size_t>(std::count(meshed.begin(), meshed.end(), false));
+}
+
+namespace {
+
+class StopAfter : public ProgressSink {
+ public:
+  void on_progress(const Progress& p) override { last = p; }
+  bool should_abort() override { return ++polls > 2; }
+  Progress last;
+  int polls = 0;
+};
+
+}  // namespace
+
+void expect_cancellation_and_budget_stop(unsigned threads) {
+  const auto image = domain::hypersphere_phantom({32, 32, 32, 32}, {1, 1, 1, 1}, 12);
+  const domain::SurfaceOracle oracle(image);
+  RefineParams params;
+  params.delta = 2;
+  params.threads = threads;
+  StopAfter sink;
+  EXPECT_THROW(Refiner(oracle, params).run(&sink), Cancelled);
+  params.vertex_budget = 200;
+  EXPECT_THROW(Refiner(oracle, params).run(), BudgetExceeded);
+}
+
+}  // namespace mesh4d::refine

@@ -1,0 +1,40 @@
+// The checks of a refined mesh that the sequential and the parallel refiner's tests share.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "domain/label_image.h"
+#include "domain/surface_oracle.h"
+#include "mesh/mesh4.h"
+
+namespace mesh4d::refine {
+
+// The stated bound on the distance from the output boundary to ∂Ω, as a multiple of δ.
+constexpr double kDistanceBound = 0.5;
+
+/// Total 4-volume of the output pentatopes (of one label, or all with 0).
+double output_volume(const mesh::Mesh4& m, mesh::Label label = 0);
+/// 4-volume of a label's voxels.
+double voxel_volume(const domain::LabelImage4& image, domain::Label label);
+
+/// Fidelity (issue 5's checks): every boundary-tetrahedron vertex is a feature vertex lying on
+/// ∂Ω, that is, the two largest interpolated label indicators there are equal (to 1e-6); the
+/// boundary of every label's region is a closed 3-manifold: each of its triangles is in exactly
+/// two of the region's boundary tetrahedra (none odd, none pinched in four or more, also where
+/// three labels meet); and the boundary stays within `max_distance` of ∂Ω (physical units).
+/// GoogleTest expectations.
+void expect_fidelity(const mesh::Mesh4& m, const domain::SurfaceOracle& oracle,
+                     const std::vector<domain::Label>& labels, double max_distance);
+
+/// The 4D connected components (face neighbors) of each label's voxels that hold no output
+/// pentatope of that label: a pentatope counts for the component of the voxel nearest its
+/// circumcenter when that voxel has its label. `components` gets how many there are.
+std::size_t unmeshed_components(const domain::LabelImage4& image, const mesh::Mesh4& m,
+                                std::size_t* components);
+
+/// A sink that asks to stop at its third poll makes run() throw Cancelled, and a budget of 200
+/// vertices makes it throw BudgetExceeded, with `threads` workers (hypersphere, δ = 2).
+void expect_cancellation_and_budget_stop(unsigned threads);
+
+}  // namespace mesh4d::refine
