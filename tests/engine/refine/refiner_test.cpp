@@ -186,7 +186,9 @@ TEST(Refiner, HalvingDeltaAddsVertices) {
   EXPECT_GT(b.stats.vertices, 2 * a.stats.vertices);
 }
 
-TEST(Refiner, CancellationAndBudgetStopCleanly) { expect_cancellation_and_budget_stop(1); }
+TEST(Refiner, CancellationAndBudgetStopCleanly) {
+  expect_cancellation_and_budget_stop(1);
+}
 
 }  // namespace
 }  // namespace mesh4d::refine
