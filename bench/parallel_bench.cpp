@@ -7,6 +7,7 @@
 //
 //   parallel_bench [--threads 1,2,4,8] [--repeat 3] [--delta 5]
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -25,7 +26,7 @@ using namespace mesh4d;
 namespace {
 
 struct Run {
-  std::uint64_t pentatopes, rollbacks;
+  std::uint64_t pentatopes, rollbacks, insertions[5], removals;
   double seconds, rules_seconds, contention, idle, rho_max, tau_min;
   bool valid;
 };
@@ -64,11 +65,12 @@ int main(int argc, char** argv) {
       delta, repeat);
   std::printf(
       "| threads | pentatopes | time s | pentatopes/s | speedup | rules s | rollbacks | "
-      "contention s | idle s | max ρ | min τ | valid |\n|---|---|---|---|---|---|---|---|---|---|"
-      "---|---|\n");
+      "contention s | idle s | insertions R1 / R2 / R3 / R4 / R5 | R5 removals | max ρ | min τ | "
+      "valid |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   double reference = 0;
   for (unsigned t : threads) {
-    std::vector<double> seconds, rules, contention, idle, pentatopes, rollbacks, rho, tau;
+    std::vector<double> seconds, rules, contention, idle, pentatopes, rollbacks, rho, tau, removals;
+    std::array<std::vector<double>, 5> insertions;
     bool valid = true;
     for (int k = 0; k < repeat; ++k) {
       const auto run = bench::run_in_child<Run>([&] {
@@ -79,6 +81,9 @@ int main(int argc, char** argv) {
         const auto r = refiner.run();
         return Run{r.stats.pentatopes,
                    r.rollbacks,
+                   {r.stats.insertions[0], r.stats.insertions[1], r.stats.insertions[2],
+                    r.stats.insertions[3], r.stats.insertions[4]},
+                   r.stats.removals[4],
                    r.stats.elapsed_seconds,
                    r.rules_seconds,
                    r.contention_seconds,
@@ -97,6 +102,8 @@ int main(int argc, char** argv) {
       idle.push_back(run->idle);
       pentatopes.push_back(double(run->pentatopes));
       rollbacks.push_back(double(run->rollbacks));
+      for (int r = 0; r < 5; ++r) insertions[r].push_back(double(run->insertions[r]));
+      removals.push_back(double(run->removals));
       rho.push_back(run->rho_max);
       tau.push_back(run->tau_min);
       valid &= run->valid;
@@ -108,11 +115,14 @@ int main(int argc, char** argv) {
     const double time = median(seconds);
     if (reference == 0) reference = time;
     std::printf(
-        "| %u | %.0f | %.2f | %.0f | %.2f | %.2f | %.0f | %.2f | %.2f | %.2f | %.4f | %s |\n", t,
-        median(pentatopes), time, median(pentatopes) / time, reference / time, median(rules),
-        median(rollbacks), median(contention), median(idle),
-        *std::max_element(rho.begin(), rho.end()), *std::min_element(tau.begin(), tau.end()),
-        valid ? "yes" : "NO");
+        "| %u | %.0f | %.2f | %.0f | %.2f | %.2f | %.0f | %.2f | %.2f | %.0f / %.0f / %.0f / %.0f "
+        "/ "
+        "%.0f | %.0f | %.2f | %.4f | %s |\n",
+        t, median(pentatopes), time, median(pentatopes) / time, reference / time, median(rules),
+        median(rollbacks), median(contention), median(idle), median(insertions[0]),
+        median(insertions[1]), median(insertions[2]), median(insertions[3]), median(insertions[4]),
+        median(removals), *std::max_element(rho.begin(), rho.end()),
+        *std::min_element(tau.begin(), tau.end()), valid ? "yes" : "NO");
     std::fflush(stdout);
   }
 }

@@ -314,6 +314,7 @@ void Refiner::enqueue(Worker& w, CellId c) {
   }
   std::lock_guard lock(w.queue_mutex);
   w.queues[rule].push_back(k);
+  queued_[rule].fetch_add(1, std::memory_order_relaxed);
 }
 
 bool Refiner::still_valid(const Candidate& k) const {

@@ -151,8 +151,9 @@ class Refiner {
   // One thread of a parallel phase (refiner_parallel.cpp).
   struct Shared;
   void work(Worker& w, Shared& shared, ProgressSink* sink);
-  bool pop(Worker& w, Candidate* k, Rule* rule);
-  bool steal(Worker& w, Shared& shared);
+  bool pop(Worker& w, Shared& shared, Candidate* k, Rule* rule);
+  // Takes the older half of another worker's queues (of one rule only, unless kNone).
+  bool steal(Worker& w, Shared& shared, Rule only = kNone);
   void distribute_work(unsigned threads);  // all queued work split among the workers
   // Pops and applies one candidate: locks its pentatope (in a parallel phase), classifies it,
   // inserts the rule's point. The caller releases the locks.
@@ -226,6 +227,8 @@ class Refiner {
   std::array<Point4, 2> box_;
   std::vector<std::unique_ptr<Worker>> workers_;  // [0] also serves single-threaded work
   bool concurrent_ready_ = false;                 // storage prepared for parallel phases
+  // Candidates queued per rule over all workers in a parallel phase (for the global priority).
+  std::array<std::atomic<std::int64_t>, kNone> queued_{};
   FeatureIndex features_;
   mutable std::shared_mutex features_mutex_;
   bool tracking_ = false;                       // admit() records new pentatopes in touched_

@@ -68,22 +68,47 @@ struct Refiner::Shared {
   }
 };
 
-bool Refiner::pop(Worker& w, Candidate* k, Rule* rule) {
+bool Refiner::pop(Worker& w, Shared& shared, Candidate* k, Rule* rule) {
   const std::array<Rule, 6> order = params_.rule_order == RuleOrder::r3_first
                                         ? std::array<Rule, 6>{kR3, kR1, kR2, kR4, kSizing, kR5}
                                         : std::array<Rule, 6>{kR1, kR2, kR3, kR4, kSizing, kR5};
-  std::lock_guard lock(w.queue_mutex);
-  for (Rule r : order)
-    if (!w.queues[r].empty()) {
-      *k = w.queues[r].back();
-      w.queues[r].pop_back();
-      *rule = r;
-      return true;
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    std::unique_lock lock(w.queue_mutex);
+    Rule own = kNone;
+    for (Rule r : order)
+      if (!w.queues[r].empty()) {
+        own = r;
+        break;
+      }
+    // The rules' priority is global in the sequential refiner: R5 runs only once no other rule
+    // applies anywhere. Its free-vertex removals next to another worker's R3 insertions undo
+    // them and are undone in turn, so a worker left with R5 work takes others' work first.
+    if (own == kR5 && attempt == 0) {
+      Rule higher = kNone;
+      for (Rule r : order) {
+        if (r == kR5) break;
+        if (queued_[r].load(std::memory_order_relaxed) > 0) {
+          higher = r;
+          break;
+        }
+      }
+      if (higher != kNone) {
+        lock.unlock();
+        steal(w, shared, higher);
+        continue;
+      }
     }
+    if (own == kNone) return false;
+    *k = w.queues[own].back();
+    w.queues[own].pop_back();
+    queued_[own].fetch_sub(1, std::memory_order_relaxed);
+    *rule = own;
+    return true;
+  }
   return false;
 }
 
-bool Refiner::steal(Worker& w, Shared& shared) {
+bool Refiner::steal(Worker& w, Shared& shared, Rule only) {
   // The older half of each queue: far from where the victim works now, so fewer conflicts.
   for (unsigned i = 1; i < shared.threads; ++i) {
     Worker& victim = *workers_[(w.index + i) % shared.threads];
@@ -92,6 +117,7 @@ bool Refiner::steal(Worker& w, Shared& shared) {
     {
       std::lock_guard lock(victim.queue_mutex);
       for (int r = 0; r < kNone; ++r) {
+        if (only != kNone && r != only) continue;
         auto& q = victim.queues[r];
         const std::size_t m = (q.size() + 1) / 2;
         taken[r].assign(q.begin(), q.begin() + static_cast<std::ptrdiff_t>(m));
@@ -122,6 +148,7 @@ void Refiner::distribute_work(unsigned threads) {
   }
   for (int r = 0; r < kNone; ++r) {
     const std::size_t n = pool[r].size();
+    queued_[r].store(static_cast<std::int64_t>(n), std::memory_order_relaxed);
     for (unsigned t = 0; t < threads; ++t) {
       const auto begin = pool[r].begin() + static_cast<std::ptrdiff_t>(n * t / threads);
       const auto end = pool[r].begin() + static_cast<std::ptrdiff_t>(n * (t + 1) / threads);
@@ -164,13 +191,16 @@ void Refiner::work(Worker& w, Shared& shared, ProgressSink* sink) {
 
       Candidate k;
       Rule rule;
-      if (!pop(w, &k, &rule)) {
+      if (!pop(w, shared, &k, &rule)) {
         // Fresh work first (another's queue), then what rolled back: retrying at once would
         // mostly meet the same locks again.
         if (steal(w, shared)) continue;
         if (!w.retry.empty()) {
           std::lock_guard lock(w.queue_mutex);
-          for (const auto& [candidate, r] : w.retry) w.queues[r].push_back(candidate);
+          for (const auto& [candidate, r] : w.retry) {
+            w.queues[r].push_back(candidate);
+            queued_[r].fetch_add(1, std::memory_order_relaxed);
+          }
           w.retry.clear();
           continue;
         }
@@ -196,6 +226,7 @@ void Refiner::work(Worker& w, Shared& shared, ProgressSink* sink) {
       if (tri_.stamps_running_low()) {  // cleared between phases, by one thread
         std::lock_guard lock(w.queue_mutex);
         w.queues[rule].push_back(k);
+        queued_[rule].fetch_add(1, std::memory_order_relaxed);
         shared.stop.store(true, std::memory_order_release);
         break;
       }
