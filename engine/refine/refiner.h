@@ -166,6 +166,8 @@ class Refiner {
     std::array<mesh4d::VertexId, 3> triangle;              // sorted
     std::vector<std::pair<delaunay::CellId, int>> facets;  // (pentatope, facet index)
   };
+  // How many threads a read-only scan of `items` between parallel phases uses.
+  unsigned scan_parts(std::size_t items) const;
   // Every pinch, from a scan of the whole triangulation.
   std::size_t count_pinches(std::vector<PinchedTriangle>* pinched) const;
   // The same count after a full one, from the triangles that can have changed: those of

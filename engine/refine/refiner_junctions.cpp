@@ -8,6 +8,7 @@
 
 #include "delaunay/spatial_sort.h"
 #include "domain/junctions.h"
+#include "refine/parallel_parts.h"
 #include "refine/refiner.h"
 
 namespace mesh4d::refine {
@@ -28,71 +29,120 @@ void Refiner::insert_junctions() {
   for (std::size_t i : delaunay::spatial_order(points)) tri_.insert(points[i], VertexKind::feature);
 }
 
+namespace {
+
+// Scans shorter than this stay on one thread: starting threads would cost more.
+constexpr std::size_t kScanPerThread = 4096;
+
+std::uint64_t hash_key(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+  std::uint64_t h = (std::uint64_t(a) << 32 | b) * 0x9E3779B97F4A7C15ull;
+  h ^= (std::uint64_t(c) << 32 | d) * 0xC2B2AE3D27D4EB4Full;
+  return h ^ (h >> 29);
+}
+
+// The part that counts a triangle: every record of one triangle meets in one part.
+unsigned bucket_of(std::uint64_t hash, unsigned parts) {
+  return static_cast<unsigned>((hash >> 40) % parts);
+}
+
+// Size of an open-addressing table for the items that the parts handed to `part`: a power of
+// two, at least twice their number.
+template <class T>
+std::size_t table_size(const std::vector<std::vector<std::vector<T>>>& handed, unsigned part) {
+  std::size_t n = 0;
+  for (const auto& from : handed) n += from[part].size();
+  std::size_t size = 16;
+  while (size < 2 * n) size *= 2;
+  return size;
+}
+
+}  // namespace
+
+unsigned Refiner::scan_parts(std::size_t items) const {
+  const std::size_t useful = std::max<std::size_t>(1, items / kScanPerThread);
+  return static_cast<unsigned>(std::min<std::size_t>(params_.threads, useful));
+}
+
 std::size_t Refiner::count_pinches(std::vector<PinchedTriangle>* pinched) const {
   // Records (region label, sorted triangle, facet) for every triangle of every region's
-  // boundary facet.
+  // boundary facet. With several threads, each scans a range of pentatopes and hands each
+  // record to the part its triangle hashes to; each part then counts its own triangles.
   struct Record {
     std::array<std::uint32_t, 4> key;  // label, then the triangle's vertices
+    std::uint64_t hash;
     CellId cell;
     int facet;
   };
   const auto& st = tri_.store();
-  std::vector<Record> records;
-  for (CellId c = 0; c < st.cell_slots(); ++c) {
-    if (!st.is_live(c) || st.is_infinite(c) || !info_[c].finite || info_[c].label == 0) continue;
-    const auto& cell = st.cell(c);
-    for (int i = 0; i < 5; ++i) {
-      const CellId n = cell.n[i];
-      const domain::Label other = st.is_infinite(n) || !info_[n].finite ? 0 : info_[n].label;
-      if (other == info_[c].label) continue;
-      std::array<std::uint32_t, 4> facet;
-      for (int k = 0, m = 0; k < 5; ++k)
-        if (k != i) facet[m++] = cell.v[k];
-      std::sort(facet.begin(), facet.end());
-      for (int skip = 0; skip < 4; ++skip) {
-        Record r{{info_[c].label, 0, 0, 0}, c, i};
-        for (int k = 0, m = 1; k < 4; ++k)
-          if (k != skip) r.key[m++] = facet[k];
-        records.push_back(r);
+  const unsigned parts = scan_parts(st.cell_slots());
+  std::vector<std::vector<std::vector<Record>>> records(parts,
+                                                        std::vector<std::vector<Record>>(parts));
+  run_parts(parts, [&](unsigned part) {
+    const auto [begin, end] = part_range(st.cell_slots(), part, parts);
+    for (CellId c = static_cast<CellId>(begin); c < end; ++c) {
+      if (!st.is_live(c) || st.is_infinite(c) || !info_[c].finite || info_[c].label == 0) continue;
+      const auto& cell = st.cell(c);
+      for (int i = 0; i < 5; ++i) {
+        const CellId n = cell.n[i];
+        const domain::Label other = st.is_infinite(n) || !info_[n].finite ? 0 : info_[n].label;
+        if (other == info_[c].label) continue;
+        std::array<std::uint32_t, 4> facet;
+        for (int k = 0, m = 0; k < 5; ++k)
+          if (k != i) facet[m++] = cell.v[k];
+        std::sort(facet.begin(), facet.end());
+        for (int skip = 0; skip < 4; ++skip) {
+          Record r{{info_[c].label, 0, 0, 0}, 0, c, i};
+          for (int k = 0, m = 1; k < 4; ++k)
+            if (k != skip) r.key[m++] = facet[k];
+          r.hash = hash_key(r.key[0], r.key[1], r.key[2], r.key[3]);
+          records[part][bucket_of(r.hash, parts)].push_back(r);
+        }
       }
     }
-  }
+  });
   // Count each triangle's facets in an open-addressing table (a sort of all records cost a
   // fifth of the ventricle's refinement, as the repair recounts after every round).
   struct Slot {
     std::array<std::uint32_t, 4> key;
     std::uint32_t count = 0;
-    std::uint32_t pinch = 0;  // 1 + index in *pinched, once listed
+    std::uint32_t pinch = 0;  // 1 + index in found[part], once listed
   };
-  std::size_t size = 16;
-  while (size < 2 * records.size()) size *= 2;
-  std::vector<Slot> table(size);
-  const auto slot_of = [&](const std::array<std::uint32_t, 4>& key) -> Slot& {
-    std::uint64_t h = (std::uint64_t(key[0]) << 32 | key[1]) * 0x9E3779B97F4A7C15ull;
-    h ^= (std::uint64_t(key[2]) << 32 | key[3]) * 0xC2B2AE3D27D4EB4Full;
-    h ^= h >> 29;
-    for (std::size_t i = h & (size - 1);; i = (i + 1) & (size - 1))
-      if (table[i].count == 0 || table[i].key == key) return table[i];
-  };
-  std::size_t pinches = 0;
-  for (const Record& r : records) {
-    Slot& slot = slot_of(r.key);
-    slot.key = r.key;
-    if (++slot.count == 3) ++pinches;
-  }
-  if (pinched && pinches) {
-    for (const Record& r : records) {
-      Slot& slot = slot_of(r.key);
-      if (slot.count <= 2) continue;
-      if (slot.pinch == 0) {
-        pinched->emplace_back();
-        pinched->back().triangle = {r.key[1], r.key[2], r.key[3]};
-        slot.pinch = static_cast<std::uint32_t>(pinched->size());
+  std::vector<std::size_t> pinches(parts, 0);
+  std::vector<std::vector<PinchedTriangle>> found(parts);
+  run_parts(parts, [&](unsigned part) {
+    const std::size_t size = table_size(records, part);
+    std::vector<Slot> table(size);
+    const auto slot_of = [&](const Record& r) -> Slot& {
+      for (std::size_t i = r.hash & (size - 1);; i = (i + 1) & (size - 1))
+        if (table[i].count == 0 || table[i].key == r.key) return table[i];
+    };
+    for (const auto& from : records)
+      for (const Record& r : from[part]) {
+        Slot& slot = slot_of(r);
+        slot.key = r.key;
+        if (++slot.count == 3) ++pinches[part];
       }
-      (*pinched)[slot.pinch - 1].facets.emplace_back(r.cell, r.facet);
-    }
+    if (!pinched || pinches[part] == 0) return;
+    for (const auto& from : records)
+      for (const Record& r : from[part]) {
+        Slot& slot = slot_of(r);
+        if (slot.count <= 2) continue;
+        if (slot.pinch == 0) {
+          found[part].emplace_back();
+          found[part].back().triangle = {r.key[1], r.key[2], r.key[3]};
+          slot.pinch = static_cast<std::uint32_t>(found[part].size());
+        }
+        found[part][slot.pinch - 1].facets.emplace_back(r.cell, r.facet);
+      }
+  });
+  std::size_t total = 0;
+  for (unsigned part = 0; part < parts; ++part) {
+    total += pinches[part];
+    if (pinched)
+      pinched->insert(pinched->end(), std::make_move_iterator(found[part].begin()),
+                      std::make_move_iterator(found[part].end()));
   }
-  return pinches;
+  return total;
 }
 
 void Refiner::link_cycle(CellId start, const std::array<VertexId, 3>& t, std::vector<CellId>& cycle,
@@ -161,29 +211,41 @@ void Refiner::pinches_at(CellId start, const std::array<VertexId, 3>& t,
 }
 
 std::size_t Refiner::recount_pinches(std::vector<PinchedTriangle>* pinched) {
-  // Candidate triangles with a live pentatope through each.
+  // Candidate triangles with a live pentatope through each, handed (as in count_pinches) to
+  // the part their triangle hashes to.
+  using Triangle = std::array<VertexId, 3>;
+  using Through = std::pair<Triangle, CellId>;
   const auto& st = tri_.store();
-  std::vector<std::pair<std::array<VertexId, 3>, CellId>> candidates;
-  for (CellId c : touched_) {
-    if (!st.is_live(c) || st.is_infinite(c)) continue;
-    const auto& cell = st.cell(c);
-    const domain::Label own = info_[c].finite ? info_[c].label : 0;
-    for (int i = 0; i < 5; ++i) {
-      const CellId nb = cell.n[i];
-      const domain::Label other = st.is_infinite(nb) || !info_[nb].finite ? 0 : info_[nb].label;
-      if (other == own) continue;
-      std::array<VertexId, 4> facet;
-      for (int k = 0, m = 0; k < 5; ++k)
-        if (k != i) facet[m++] = cell.v[k];
-      std::sort(facet.begin(), facet.end());
-      for (int skip = 0; skip < 4; ++skip) {
-        std::array<VertexId, 3> t;
-        for (int k = 0, m = 0; k < 4; ++k)
-          if (k != skip) t[m++] = facet[k];
-        candidates.emplace_back(t, c);
+  const unsigned parts = scan_parts(touched_.size());
+  const auto part_of = [parts](const Triangle& t) {
+    return bucket_of(hash_key(t[0], t[1], t[2], 0), parts);
+  };
+  std::vector<std::vector<std::vector<Through>>> candidates(
+      parts, std::vector<std::vector<Through>>(parts));
+  run_parts(parts, [&](unsigned part) {
+    const auto [begin, end] = part_range(touched_.size(), part, parts);
+    for (std::size_t j = begin; j < end; ++j) {
+      const CellId c = touched_[j];
+      if (!st.is_live(c) || st.is_infinite(c)) continue;
+      const auto& cell = st.cell(c);
+      const domain::Label own = info_[c].finite ? info_[c].label : 0;
+      for (int i = 0; i < 5; ++i) {
+        const CellId nb = cell.n[i];
+        const domain::Label other = st.is_infinite(nb) || !info_[nb].finite ? 0 : info_[nb].label;
+        if (other == own) continue;
+        std::array<VertexId, 4> facet;
+        for (int k = 0, m = 0; k < 5; ++k)
+          if (k != i) facet[m++] = cell.v[k];
+        std::sort(facet.begin(), facet.end());
+        for (int skip = 0; skip < 4; ++skip) {
+          Triangle t;
+          for (int k = 0, m = 0; k < 4; ++k)
+            if (k != skip) t[m++] = facet[k];
+          candidates[part][part_of(t)].emplace_back(t, c);
+        }
       }
     }
-  }
+  });
   std::vector<CellId> star;
   for (const PinchedTriangle& p : known_pinches_) {
     // A pentatope of the old pinch may be gone; any live one through the triangle will do.
@@ -211,15 +273,36 @@ std::size_t Refiner::recount_pinches(std::vector<PinchedTriangle>* pinched) {
         }
       }
     }
-    if (through != delaunay::kNoCell) candidates.emplace_back(p.triangle, through);
+    if (through != delaunay::kNoCell)
+      candidates[0][part_of(p.triangle)].emplace_back(p.triangle, through);
   }
-  std::sort(candidates.begin(), candidates.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::vector<PinchedTriangle>> found(parts);
+  run_parts(parts, [&](unsigned part) {
+    // Each triangle once (a hash set: sorting the candidates cost more than the walks).
+    const std::size_t size = table_size(candidates, part);
+    std::vector<Through> seen(size, Through{{}, delaunay::kNoCell});
+    for (const auto& from : candidates)
+      for (const auto& [t, c] : from[part]) {
+        const std::uint64_t h = hash_key(t[0], t[1], t[2], 0);
+        for (std::size_t i = h & (size - 1);; i = (i + 1) & (size - 1)) {
+          if (seen[i].second == delaunay::kNoCell) {
+            seen[i] = {t, c};
+            pinches_at(c, t, &found[part]);
+            break;
+          }
+          if (seen[i].first == t) break;
+        }
+      }
+  });
+  // In triangle order (and for each triangle, in the order pinches_at lists its labels): the
+  // repair's order depends neither on the hashing nor on the number of parts.
   const std::size_t before = pinched->size();
-  for (std::size_t i = 0; i < candidates.size(); ++i) {
-    if (i > 0 && candidates[i].first == candidates[i - 1].first) continue;
-    pinches_at(candidates[i].second, candidates[i].first, pinched);
-  }
+  for (auto& part : found)
+    pinched->insert(pinched->end(), std::make_move_iterator(part.begin()),
+                    std::make_move_iterator(part.end()));
+  std::stable_sort(
+      pinched->begin() + static_cast<std::ptrdiff_t>(before), pinched->end(),
+      [](const PinchedTriangle& a, const PinchedTriangle& b) { return a.triangle < b.triangle; });
   return pinched->size() - before;
 }
 

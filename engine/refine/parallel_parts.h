@@ -1,0 +1,43 @@
+// Read-only scans between the parallel refinement phases (pinch counts, extraction) on the
+// job's threads: part p of `parts` runs on its own thread, part 0 on the caller's, and the
+// call returns when all are done. The first exception a part throws is rethrown here.
+#pragma once
+
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace mesh4d::refine {
+
+template <class Fn>
+void run_parts(unsigned parts, Fn&& fn) {
+  if (parts <= 1) {
+    fn(0u);
+    return;
+  }
+  std::mutex error_mutex;
+  std::exception_ptr error;
+  const auto guarded = [&](unsigned p) {
+    try {
+      fn(p);
+    } catch (...) {
+      std::lock_guard lock(error_mutex);
+      if (!error) error = std::current_exception();
+    }
+  };
+  {
+    std::vector<std::jthread> pool;
+    pool.reserve(parts - 1);
+    for (unsigned p = 1; p < parts; ++p) pool.emplace_back(guarded, p);
+    guarded(0);
+  }  // joins
+  if (error) std::rethrow_exception(error);
+}
+
+// The half-open range [begin, end) of part p when n items are split into `parts`.
+inline std::pair<std::size_t, std::size_t> part_range(std::size_t n, unsigned p, unsigned parts) {
+  return {n * p / parts, n * (p + 1) / parts};
+}
+
+}  // namespace mesh4d::refine
