@@ -216,6 +216,15 @@ std::size_t Refiner::recount_pinches(std::vector<PinchedTriangle>* pinched) {
   using Triangle = std::array<VertexId, 3>;
   using Through = std::pair<Triangle, CellId>;
   const auto& st = tri_.store();
+  // Slots are reused as the rules churn: each once (a fifth of the list on the ventricle).
+  std::vector<std::uint64_t> listed((st.cell_slots() + 63) / 64, 0);
+  std::size_t unique = 0;
+  for (const CellId c : touched_) {
+    std::uint64_t& word = listed[c / 64];
+    const std::uint64_t bit = std::uint64_t(1) << (c % 64);
+    if (!(word & bit)) word |= bit, touched_[unique++] = c;
+  }
+  touched_.resize(unique);
   const unsigned parts = scan_parts(touched_.size());
   const auto part_of = [parts](const Triangle& t) {
     return bucket_of(hash_key(t[0], t[1], t[2], 0), parts);
