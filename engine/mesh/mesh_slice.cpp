@@ -1,60 +1,163 @@
 #include "mesh/mesh_slice.h"
 
-#include <cmath>
+#include <algorithm>
+#include <unordered_map>
 
 namespace mesh4d::mesh {
 namespace {
 
 using P3 = std::array<double, 3>;
 
-double tet_volume(const P3& a, const P3& b, const P3& c, const P3& d) {
+double signed_volume6(const P3& a, const P3& b, const P3& c, const P3& d) {
   const P3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
   const P3 v{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
   const P3 w{d[0] - a[0], d[1] - a[1], d[2] - a[2]};
-  const double det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
-                     u[2] * (v[0] * w[1] - v[1] * w[0]);
-  return std::abs(det) / 6;
+  return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+         u[2] * (v[0] * w[1] - v[1] * w[0]);
 }
 
-// Where edge (p, q), with p and q on opposite sides, crosses t = time.
-P3 crossing(const Point4& p, const Point4& q, double time) {
-  const double s = (time - p[3]) / (q[3] - p[3]);
-  return {p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1]), p[2] + s * (q[2] - p[2])};
-}
+// Builds a slice: one point per crossing edge, shared by every pentatope around that edge.
+class Slicer {
+ public:
+  Slicer(const Mesh4& mesh, double time) : mesh_(mesh), time_(time) { slice_.time = time; }
+
+  bool below(std::uint32_t v) const { return mesh_.vertices[v][3] < time_; }
+
+  // The point where edge (lo, hi) meets the plane: lo below, hi above. A corner exactly on the
+  // plane is that corner, whatever edge reaches it, so sections stay conforming there too.
+  std::uint32_t cut(std::uint32_t lo, std::uint32_t hi) {
+    const Point4& p = mesh_.vertices[lo];
+    const Point4& q = mesh_.vertices[hi];
+    const bool on_plane = q[3] == time_;
+    const std::uint64_t key = on_plane ? (std::uint64_t(hi) << 32 | hi)
+                                       : (std::uint64_t(std::min(lo, hi)) << 32 | std::max(lo, hi));
+    const auto [it, fresh] =
+        index_.try_emplace(key, static_cast<std::uint32_t>(slice_.points.size()));
+    if (fresh) {
+      if (on_plane) {
+        slice_.points.push_back({q[0], q[1], q[2]});
+      } else {
+        const double s = (time_ - p[3]) / (q[3] - p[3]);
+        slice_.points.push_back(
+            {p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1]), p[2] + s * (q[2] - p[2])});
+      }
+    }
+    return it->second;
+  }
+
+  void add_tetrahedron(std::array<std::uint32_t, 4> t, Label label, std::uint32_t pentatope) {
+    const auto& pt = slice_.points;
+    const double v = signed_volume6(pt[t[0]], pt[t[1]], pt[t[2]], pt[t[3]]);
+    if (v == 0) return;  // flat: a corner on the plane, or a repeated point
+    if (v < 0) std::swap(t[2], t[3]);
+    slice_.tetrahedra.push_back(t);
+    slice_.labels.push_back(label);
+    slice_.pentatopes.push_back(pentatope);
+  }
+
+  void add_triangle(const std::array<std::uint32_t, 3>& t, Label inner, Label outer) {
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return;
+    slice_.triangles.push_back(t);
+    slice_.triangle_labels.push_back({inner, outer});
+  }
+
+  void add_pentatope(std::uint32_t index) {
+    std::array<std::uint32_t, 5> lo, hi;
+    int nl = 0, nh = 0;
+    for (std::uint32_t v : mesh_.pentatopes[index]) (below(v) ? lo[nl++] : hi[nh++]) = v;
+    if (nl == 0 || nh == 0) return;
+    const Label label = mesh_.labels[index];
+    if (nl == 1 || nh == 1) {
+      // A tetrahedron: the four edges from the lone corner.
+      std::array<std::uint32_t, 4> t;
+      for (int j = 0; j < 4; ++j) t[j] = nl == 1 ? cut(lo[0], hi[j]) : cut(lo[j], hi[0]);
+      add_tetrahedron(t, label, index);
+      return;
+    }
+    // A triangular prism: a_j = cut(lone0, many_j), b_j = cut(lone1, many_j).
+    std::array<std::uint32_t, 3> a, b;
+    for (int j = 0; j < 3; ++j) {
+      a[j] = nl == 2 ? cut(lo[0], hi[j]) : cut(lo[j], hi[0]);
+      b[j] = nl == 2 ? cut(lo[1], hi[j]) : cut(lo[j], hi[1]);
+    }
+    split_prism(a, b, label, index);
+  }
+
+  // Dompierre et al.'s rule: each quad's diagonal goes through its smallest point index, which
+  // two neighbors sharing the quad agree on. Rotated so that a[0] is the prism's smallest index,
+  // the diagonals of the two quads through a[0] start there; the third decides between the two
+  // decompositions.
+  void split_prism(std::array<std::uint32_t, 3> a, std::array<std::uint32_t, 3> b, Label label,
+                   std::uint32_t pentatope) {
+    const auto lowest_a = std::min_element(a.begin(), a.end());
+    const auto lowest_b = std::min_element(b.begin(), b.end());
+    if (*lowest_b < *lowest_a) std::swap(a, b);
+    const int m = static_cast<int>(std::min_element(a.begin(), a.end()) - a.begin());
+    std::rotate(a.begin(), a.begin() + m, a.end());
+    std::rotate(b.begin(), b.begin() + m, b.end());
+    if (std::min(a[1], b[2]) < std::min(a[2], b[1])) {
+      add_tetrahedron({a[0], a[1], a[2], b[2]}, label, pentatope);
+      add_tetrahedron({a[0], a[1], b[2], b[1]}, label, pentatope);
+    } else {
+      add_tetrahedron({a[0], a[1], a[2], b[1]}, label, pentatope);
+      add_tetrahedron({a[0], a[2], b[1], b[2]}, label, pentatope);
+    }
+    add_tetrahedron({a[0], b[1], b[2], b[0]}, label, pentatope);
+  }
+
+  void add_boundary(const BoundaryTetrahedron& f) {
+    // Each interface between two labels is listed from both sides: keep the higher label's.
+    if (f.outer != 0 && f.inner < f.outer) return;
+    std::array<std::uint32_t, 4> lo, hi;
+    int nl = 0, nh = 0;
+    for (std::uint32_t v : f.vertices) (below(v) ? lo[nl++] : hi[nh++]) = v;
+    if (nl == 0 || nh == 0) return;
+    if (nl == 1 || nh == 1) {
+      std::array<std::uint32_t, 3> t;
+      for (int j = 0; j < 3; ++j) t[j] = nl == 1 ? cut(lo[0], hi[j]) : cut(lo[j], hi[0]);
+      add_triangle(t, f.inner, f.outer);
+      return;
+    }
+    // A quad, in cyclic order, split on the diagonal through its smallest index (as the prisms).
+    const std::array<std::uint32_t, 4> q{cut(lo[0], hi[0]), cut(lo[0], hi[1]), cut(lo[1], hi[1]),
+                                         cut(lo[1], hi[0])};
+    const int m = static_cast<int>(std::min_element(q.begin(), q.end()) - q.begin());
+    const int s = m % 2;  // the diagonal q[s]–q[s + 2]
+    add_triangle({q[s], q[s + 1], q[s + 2]}, f.inner, f.outer);
+    add_triangle({q[s], q[s + 2], q[(s + 3) % 4]}, f.inner, f.outer);
+  }
+
+  SliceMesh take() { return std::move(slice_); }
+
+ private:
+  const Mesh4& mesh_;
+  const double time_;
+  SliceMesh slice_;
+  std::unordered_map<std::uint64_t, std::uint32_t> index_;  // edge (or corner) -> point
+};
 
 }  // namespace
 
+SliceMesh slice_mesh(const Mesh4& mesh, double time, bool with_boundary) {
+  Slicer slicer(mesh, time);
+  for (std::size_t i = 0; i < mesh.pentatopes.size(); ++i)
+    slicer.add_pentatope(static_cast<std::uint32_t>(i));
+  if (with_boundary)
+    for (const BoundaryTetrahedron& f : mesh.boundary) slicer.add_boundary(f);
+  return slicer.take();
+}
+
+double tetrahedron_volume(const SliceMesh& slice, std::size_t i) {
+  const auto& t = slice.tetrahedra[i];
+  const auto& p = slice.points;
+  return signed_volume6(p[t[0]], p[t[1]], p[t[2]], p[t[3]]) / 6;
+}
+
 std::map<Label, double> slice_volumes(const Mesh4& mesh, double time) {
+  const SliceMesh slice = slice_mesh(mesh, time, false);
   std::map<Label, double> volume;
-  for (std::size_t i = 0; i < mesh.pentatopes.size(); ++i) {
-    // Split the corners by side; a corner exactly on the plane counts as above, which only
-    // turns a degenerate section into a flat (zero-volume) one.
-    std::array<const Point4*, 5> below, above;
-    int nb = 0, na = 0;
-    for (auto v : mesh.pentatopes[i]) {
-      const Point4& p = mesh.vertices[v];
-      (p[3] < time ? below[nb++] : above[na++]) = &p;
-    }
-    if (nb == 0 || na == 0) continue;
-    const auto& lone = nb < na ? below : above;  // the side with fewer corners
-    const auto& many = nb < na ? above : below;
-    const int n_lone = std::min(nb, na);
-    double v = 0;
-    if (n_lone == 1) {
-      // A tetrahedron: the four edges from the lone corner.
-      v = tet_volume(crossing(*lone[0], *many[0], time), crossing(*lone[0], *many[1], time),
-                     crossing(*lone[0], *many[2], time), crossing(*lone[0], *many[3], time));
-    } else {
-      // A triangular prism (convex): triangles a_j = cut(lone0, many_j), b_j = cut(lone1,
-      // many_j), split into three tetrahedra.
-      std::array<P3, 3> a, b;
-      for (int j = 0; j < 3; ++j)
-        a[j] = crossing(*lone[0], *many[j], time), b[j] = crossing(*lone[1], *many[j], time);
-      v = tet_volume(a[0], a[1], a[2], b[0]) + tet_volume(a[1], a[2], b[0], b[1]) +
-          tet_volume(a[2], b[0], b[1], b[2]);
-    }
-    volume[mesh.labels[i]] += v;
-  }
+  for (std::size_t i = 0; i < slice.tetrahedra.size(); ++i)
+    volume[slice.labels[i]] += tetrahedron_volume(slice, i);
   return volume;
 }
 

@@ -1,17 +1,43 @@
-// Cross-sections of a space-time mesh at one instant: the 3D volume of each label at time t,
-// what a cardiologist reads off a beating heart (the ventricle's volume curve), and how the
-// benchmarks compare a 4D mesh with 3D meshes of single frames.
+// Cross-sections of a space-time mesh at one instant: the 3D mesh a viewer shows at time t
+// (ParaView animates a series of them), the volume of each label there (what a cardiologist
+// reads off a beating heart: the ventricle's volume curve), and how the benchmarks compare a 4D
+// mesh with 3D meshes of single frames.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <map>
+#include <vector>
 
 #include "mesh/mesh4.h"
 
 namespace mesh4d::mesh {
 
-/// Volume of each label's region in the hyperplane t = `time` (physical units³). The section of
-/// a pentatope is a tetrahedron or a triangular prism, cut from its edges that cross the plane;
-/// pentatopes only touching it add nothing.
+/// The section of a 4D mesh by the hyperplane t = time, as a conforming tetrahedral mesh. Each
+/// pentatope cut by the plane gives a tetrahedron or a triangular prism (split into three
+/// tetrahedra by the smallest-index rule, so that neighbors agree on every shared quad);
+/// corners exactly on the plane count as above it, which turns a degenerate section into a flat
+/// one, left out.
+struct SliceMesh {
+  double time = 0;
+  std::vector<std::array<double, 3>> points;
+  std::vector<std::array<std::uint32_t, 4>> tetrahedra;  // positively oriented
+  std::vector<Label> labels;                             // per tetrahedron
+  std::vector<std::uint32_t> pentatopes;                 // per tetrahedron: what it was cut from
+  /// The section of the boundary (each interface once): triangles with the labels on either side
+  /// (inner > outer, or outer = 0 for the background).
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  std::vector<std::array<Label, 2>> triangle_labels;  // {inner, outer}
+};
+
+/// Cuts the mesh at t = time; `with_boundary` also cuts the boundary tetrahedra.
+SliceMesh slice_mesh(const Mesh4& mesh, double time, bool with_boundary);
+
+/// Volume of each label's region in the hyperplane t = `time` (physical units³): the volumes of
+/// slice_mesh's tetrahedra, summed per label.
 std::map<Label, double> slice_volumes(const Mesh4& mesh, double time);
+
+/// Volume of one tetrahedron of a slice (positive for the orientation slice_mesh gives).
+double tetrahedron_volume(const SliceMesh& slice, std::size_t i);
 
 }  // namespace mesh4d::mesh

@@ -5,29 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <numeric>
+#include <set>
+
+#include "mesh/test_meshes.h"
 
 namespace mesh4d::mesh {
 namespace {
-
-// The box [0,sx]×[0,sy]×[0,sz]×[0,1] as 24 Kuhn simplices (one per order of the axes), label 1.
-Mesh4 kuhn_box(double sx, double sy, double sz) {
-  Mesh4 m;
-  for (int c = 0; c < 16; ++c) {
-    m.vertices.push_back(
-        {(c & 1) * sx, ((c >> 1) & 1) * sy, ((c >> 2) & 1) * sz, double((c >> 3) & 1)});
-    m.vertex_kinds.push_back(VertexKind::free);
-  }
-  std::array<int, 4> axes{0, 1, 2, 3};
-  do {
-    std::array<std::uint32_t, 5> p{};
-    std::uint32_t corner = 0;
-    for (int k = 0; k < 4; ++k) p[k + 1] = corner |= 1u << axes[k];
-    m.pentatopes.push_back(p);
-    m.labels.push_back(1);
-  } while (std::next_permutation(axes.begin(), axes.end()));
-  return m;
-}
 
 TEST(MeshSlice, KuhnBoxGivesTheBoxVolumeAtEveryInstantInside) {
   const Mesh4 m = kuhn_box(2, 3, 0.5);
@@ -48,6 +33,87 @@ TEST(MeshSlice, LabelsAreKeptApart) {
   EXPECT_NEAR(v.at(1) + v.at(2), 1.0, 1e-12);
   EXPECT_GT(v.at(1), 0.1);
   EXPECT_GT(v.at(2), 0.1);
+}
+
+// The hull of a mesh: facets in one pentatope only, as background boundary.
+using Triangle = std::array<std::uint32_t, 3>;
+
+// Faces of the slice's tetrahedra and how many tetrahedra share each.
+std::map<Triangle, int> face_counts(const SliceMesh& s) {
+  std::map<Triangle, int> faces;
+  for (const auto& t : s.tetrahedra)
+    for (int skip = 0; skip < 4; ++skip) {
+      Triangle f;
+      for (int k = 0, j = 0; k < 4; ++k)
+        if (k != skip) f[j++] = t[k];
+      std::sort(f.begin(), f.end());
+      ++faces[f];
+    }
+  return faces;
+}
+
+// A slice is a conforming mesh whose boundary triangles are exactly its faces in one
+// tetrahedron (the cut hull), and whose tetrahedra are positively oriented.
+void expect_conforming_with_boundary(const Mesh4& m, double t) {
+  const SliceMesh s = slice_mesh(m, t, true);
+  ASSERT_FALSE(s.tetrahedra.empty());
+  std::set<Triangle> open, listed;
+  for (const auto& [f, n] : face_counts(s)) {
+    EXPECT_LE(n, 2) << "a face in more than two tetrahedra at t = " << t;
+    if (n == 1) open.insert(f);
+  }
+  for (std::size_t i = 0; i < s.tetrahedra.size(); ++i) EXPECT_GT(tetrahedron_volume(s, i), 0);
+  for (auto f : s.triangles) {
+    std::sort(f.begin(), f.end());
+    EXPECT_TRUE(listed.insert(f).second) << "a boundary triangle listed twice";
+  }
+  EXPECT_EQ(open, listed) << "t = " << t;
+}
+
+TEST(MeshSlice, SectionsConformAndTheirBoundaryIsTheCutHull) {
+  Mesh4 m = kuhn_box(2, 3, 0.5);
+  add_hull(m);
+  for (double t : {0.01, 0.25, 0.5, 0.77}) expect_conforming_with_boundary(m, t);
+}
+
+TEST(MeshSlice, CornersOnThePlaneAreSharedNotDuplicated) {
+  // Two boxes stacked in time; at t = 1 every corner of the cut lies on the plane.
+  Mesh4 m = kuhn_box(1, 2, 1);
+  const Mesh4 upper = kuhn_box(1, 2, 1);
+  const auto offset = static_cast<std::uint32_t>(m.vertices.size());
+  for (auto p : upper.vertices) m.vertices.push_back({p[0], p[1], p[2], p[3] + 1});
+  for (auto p : upper.pentatopes) {
+    for (auto& v : p) v += offset;
+    m.pentatopes.push_back(p);
+    m.labels.push_back(1);
+  }
+  m.vertex_kinds.resize(m.vertices.size(), VertexKind::free);
+  const SliceMesh s = slice_mesh(m, 1.0, false);
+  double volume = 0;
+  for (std::size_t i = 0; i < s.tetrahedra.size(); ++i) volume += tetrahedron_volume(s, i);
+  EXPECT_NEAR(volume, 2.0, 1e-12);
+  EXPECT_EQ(s.points.size(), 8u) << "the eight corners of the box, each once";
+}
+
+TEST(MeshSlice, InterfacesBetweenLabelsAreListedOnce) {
+  Mesh4 m = kuhn_box(1, 1, 1);
+  for (std::size_t i = 0; i < m.labels.size(); i += 2) m.labels[i] = 2;
+  add_hull(m);
+  add_interfaces(m);
+  const SliceMesh s = slice_mesh(m, 0.4, true);
+  std::set<Triangle> seen;
+  std::size_t interfaces = 0;
+  for (std::size_t i = 0; i < s.triangles.size(); ++i) {
+    auto f = s.triangles[i];
+    std::sort(f.begin(), f.end());
+    EXPECT_TRUE(seen.insert(f).second);
+    if (s.triangle_labels[i][1] != 0) {
+      EXPECT_EQ(s.triangle_labels[i][0], 2);
+      EXPECT_EQ(s.triangle_labels[i][1], 1);
+      ++interfaces;
+    }
+  }
+  EXPECT_GT(interfaces, 0u);
 }
 
 }  // namespace
