@@ -6,6 +6,7 @@
 #include "exit_codes.h"
 #include "health_command.h"
 #include "job_commands.h"
+#include "mesh_file_commands.h"
 
 int main(int argc, char** argv) {
   using namespace mesh4d::client;
@@ -19,6 +20,8 @@ int main(int argc, char** argv) {
   setup_watch_command(app, global, &exit_code);
   setup_fetch_command(app, global, &exit_code);
   setup_job_commands(app, global, &exit_code);
+  setup_export_command(app, &exit_code);
+  setup_stats_command(app, &exit_code);
 
   try {
     app.parse(argc, argv);

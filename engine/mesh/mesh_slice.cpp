@@ -1,6 +1,7 @@
 #include "mesh/mesh_slice.h"
 
 #include <algorithm>
+#include <cmath>
 #include <unordered_map>
 
 namespace mesh4d::mesh {
@@ -19,22 +20,31 @@ double signed_volume6(const P3& a, const P3& b, const P3& c, const P3& d) {
 // Builds a slice: one point per crossing edge, shared by every pentatope around that edge.
 class Slicer {
  public:
-  Slicer(const Mesh4& mesh, double time) : mesh_(mesh), time_(time) { slice_.time = time; }
+  Slicer(const Mesh4& mesh, double time) : mesh_(mesh), time_(time) {
+    slice_.time = time;
+    double lo = time, hi = time;
+    for (const auto& p : mesh.vertices) lo = std::min(lo, p[3]), hi = std::max(hi, p[3]);
+    snap_ = 1e-9 * (hi - lo);
+  }
 
-  bool below(std::uint32_t v) const { return mesh_.vertices[v][3] < time_; }
+  // Corners within a billionth of the mesh's time span of the plane are taken as on it: a
+  // corner a rounding error away would otherwise leave needle tetrahedra (volumes around 1e-15)
+  // whose orientation no reader computes reliably.
+  bool on_plane(std::uint32_t v) const { return std::abs(mesh_.vertices[v][3] - time_) <= snap_; }
+  bool below(std::uint32_t v) const { return mesh_.vertices[v][3] < time_ && !on_plane(v); }
 
   // The point where edge (lo, hi) meets the plane: lo below, hi above. A corner exactly on the
   // plane is that corner, whatever edge reaches it, so sections stay conforming there too.
   std::uint32_t cut(std::uint32_t lo, std::uint32_t hi) {
     const Point4& p = mesh_.vertices[lo];
     const Point4& q = mesh_.vertices[hi];
-    const bool on_plane = q[3] == time_;
-    const std::uint64_t key = on_plane ? (std::uint64_t(hi) << 32 | hi)
-                                       : (std::uint64_t(std::min(lo, hi)) << 32 | std::max(lo, hi));
+    const bool corner = on_plane(hi);
+    const std::uint64_t key = corner ? (std::uint64_t(hi) << 32 | hi)
+                                     : (std::uint64_t(std::min(lo, hi)) << 32 | std::max(lo, hi));
     const auto [it, fresh] =
         index_.try_emplace(key, static_cast<std::uint32_t>(slice_.points.size()));
     if (fresh) {
-      if (on_plane) {
+      if (corner) {
         slice_.points.push_back({q[0], q[1], q[2]});
       } else {
         const double s = (time_ - p[3]) / (q[3] - p[3]);
@@ -46,9 +56,13 @@ class Slicer {
   }
 
   void add_tetrahedron(std::array<std::uint32_t, 4> t, Label label, std::uint32_t pentatope) {
+    // Two cuts through one corner on the plane are one point: a flat section.
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j)
+        if (t[i] == t[j]) return;
     const auto& pt = slice_.points;
     const double v = signed_volume6(pt[t[0]], pt[t[1]], pt[t[2]], pt[t[3]]);
-    if (v == 0) return;  // flat: a corner on the plane, or a repeated point
+    if (v == 0) return;  // flat
     if (v < 0) std::swap(t[2], t[3]);
     slice_.tetrahedra.push_back(t);
     slice_.labels.push_back(label);
@@ -132,6 +146,7 @@ class Slicer {
  private:
   const Mesh4& mesh_;
   const double time_;
+  double snap_;
   SliceMesh slice_;
   std::unordered_map<std::uint64_t, std::uint32_t> index_;  // edge (or corner) -> point
 };

@@ -16,8 +16,8 @@ namespace mesh4d::mesh {
 /// The section of a 4D mesh by the hyperplane t = time, as a conforming tetrahedral mesh. Each
 /// pentatope cut by the plane gives a tetrahedron or a triangular prism (split into three
 /// tetrahedra by the smallest-index rule, so that neighbors agree on every shared quad);
-/// corners exactly on the plane count as above it, which turns a degenerate section into a flat
-/// one, left out.
+/// corners on the plane (within 1e-9 of the mesh's time span) are points of the slice, shared
+/// by every section through them, and flat sections are left out.
 struct SliceMesh {
   double time = 0;
   std::vector<std::array<double, 3>> points;
