@@ -1,0 +1,98 @@
+// Every job subcommand of the real client on real jobs of the real server: submit (without
+// --wait), list, status, watch, cancel, fetch, delete, health; then each of them with the
+// server gone (exit 3). Their unknown-id and bad-argument failures are in bad_input_test.cpp.
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <filesystem>
+
+#include "domain/image_io.h"
+#include "domain/phantoms.h"
+#include "mesh/mesh_io.h"
+#include "server_fixture.h"
+
+namespace mesh4d::testing {
+namespace {
+
+// The first line of the client's output: the job id that submit prints.
+std::string first_line(const std::string& s) {
+  return s.substr(0, s.find('\n'));
+}
+
+TEST(ClientJobs, EachSubcommandOnRealJobsThenWithoutAServer) {
+  const std::string dir = make_temp_dir("mesh4d-client-jobs");
+  RunningServer server(dir + "/data");
+  const std::string a = server.address();
+  const auto client = [&](std::vector<std::string> args, int seconds = 60) {
+    args.insert(args.begin(), {MESH4D_CLIENT_BIN, "--server", a});
+    return run_command(args, std::chrono::seconds(seconds));
+  };
+  domain::write_nifti(domain::beating_ventricle_phantom(), dir + "/ventricle.nii.gz");
+  domain::write_nifti(domain::hypersphere_phantom(), dir + "/sphere.nii.gz");
+
+  // A long job (one thread, fine delta), cancelled while it runs.
+  const RunResult long_job = client({"submit", dir + "/ventricle.nii.gz", "--delta", "2",
+                                     "--threads", "1", "--name", "long-one"});
+  ASSERT_EQ(long_job.exit_code, 0) << long_job.output;
+  const std::string long_id = first_line(long_job.output);
+  ASSERT_FALSE(long_id.empty());
+  const RunResult listed = client({"list"});
+  ASSERT_EQ(listed.exit_code, 0) << listed.output;
+  EXPECT_NE(listed.output.find(long_id), std::string::npos) << listed.output;
+  EXPECT_NE(listed.output.find("long-one"), std::string::npos) << listed.output;
+  const RunResult status = client({"status", long_id});
+  ASSERT_EQ(status.exit_code, 0) << status.output;
+  EXPECT_TRUE(status.output.find("RUNNING") != std::string::npos ||
+              status.output.find("QUEUED") != std::string::npos)
+      << status.output;
+  const RunResult cancelled = client({"cancel", long_id});
+  ASSERT_EQ(cancelled.exit_code, 0) << cancelled.output;
+  const RunResult watched_cancelled = client({"watch", long_id});
+  EXPECT_EQ(watched_cancelled.exit_code, 5) << watched_cancelled.output;
+  EXPECT_NE(watched_cancelled.output.find("CANCELLED"), std::string::npos)
+      << watched_cancelled.output;
+  const RunResult listed_cancelled = client({"list", "--state", "cancelled"});
+  EXPECT_NE(listed_cancelled.output.find(long_id), std::string::npos) << listed_cancelled.output;
+
+  // A short job: watched to its end, its table, fetched, deleted.
+  const RunResult short_job = client({"submit", dir + "/sphere.nii.gz", "--delta", "3"});
+  ASSERT_EQ(short_job.exit_code, 0) << short_job.output;
+  const std::string id = first_line(short_job.output);
+  const RunResult watched = client({"watch", id}, 120);
+  ASSERT_EQ(watched.exit_code, 0) << watched.output;
+  EXPECT_NE(watched.output.find("JOB_STATE_SUCCEEDED"), std::string::npos) << watched.output;
+  const RunResult done = client({"status", id});
+  ASSERT_EQ(done.exit_code, 0) << done.output;
+  EXPECT_NE(done.output.find("SUCCEEDED"), std::string::npos) << done.output;
+  EXPECT_NE(done.output.find("radius-edge ratio"), std::string::npos) << done.output;
+  EXPECT_EQ(client({"list", "--state", "succeeded"}).output.find(long_id), std::string::npos);
+  const RunResult fetched = client({"fetch", id, "--out", dir + "/sphere.m4d"});
+  ASSERT_EQ(fetched.exit_code, 0) << fetched.output;
+  EXPECT_GT(mesh::read_m4d(dir + "/sphere.m4d").pentatopes.size(), 100u);
+  const RunResult deleted = client({"delete", id});
+  ASSERT_EQ(deleted.exit_code, 0) << deleted.output;
+  EXPECT_EQ(client({"status", id}).exit_code, 4);
+  EXPECT_EQ(client({"list"}).output.find(id + " "), std::string::npos);
+
+  // No server: every subcommand that calls it says so, exit 3.
+  ASSERT_EQ(server.process().stop(SIGTERM), 0);
+  const std::vector<std::vector<std::string>> calls = {{"health"},
+                                                       {"list"},
+                                                       {"status", long_id},
+                                                       {"watch", long_id},
+                                                       {"cancel", long_id},
+                                                       {"delete", long_id},
+                                                       {"fetch", long_id, "--out", dir + "/x.m4d"},
+                                                       {"submit", dir + "/sphere.nii.gz"}};
+  for (auto args : calls) {
+    args.insert(args.begin(), "2");
+    args.insert(args.begin(), "--timeout");
+    const RunResult r = client(args);
+    SCOPED_TRACE(args[2]);
+    EXPECT_EQ(r.exit_code, 3) << r.output;
+    EXPECT_NE(r.output.find("mesh4d-client:"), std::string::npos) << r.output;
+  }
+}
+
+}  // namespace
+}  // namespace mesh4d::testing
