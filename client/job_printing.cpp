@@ -1,5 +1,8 @@
 #include "job_printing.h"
 
+#include <sys/ioctl.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <ostream>
 #include <string>
@@ -65,9 +68,15 @@ void print_progress(std::ostream& out, const v1::Progress& p, bool live) {
                 (unsigned long long)p.pentatopes(), (unsigned long long)i.r1(),
                 (unsigned long long)i.r2(), (unsigned long long)i.r3(), (unsigned long long)i.r4(),
                 (unsigned long long)i.r5(), (unsigned long long)p.rollbacks(), p.elapsed_seconds());
-  if (live)
-    out << "\r" << line << "\x1b[K" << std::flush;
-  else
+  if (live) {
+    // A line longer than the terminal would wrap, and "\r" would then rewrite only its tail.
+    winsize size{};
+    std::string text = line;
+    if (ioctl(STDERR_FILENO, TIOCGWINSZ, &size) == 0 && size.ws_col > 1 &&
+        text.size() >= size.ws_col)
+      text.resize(size.ws_col - 1u);
+    out << "\r" << text << "\x1b[K" << std::flush;
+  } else
     out << line << "\n";
 }
 

@@ -159,8 +159,8 @@ TEST(ClientExport, EachFailureHasItsExitCodeAndOneClearLine) {
   EXPECT_NE(r.output.find("cannot write"), std::string::npos) << r.output;
 }
 
-// --wait rewrites one live line on a terminal (carriage return, erase to the end of the line)
-// and prints plain lines when its output is a pipe.
+// --wait rewrites one live line on a terminal (carriage return, erase to the end of the line),
+// cut to the terminal's width, and prints plain lines when its output is a pipe.
 TEST(ClientProgress, LiveLineOnATerminalPlainLinesOtherwise) {
   const std::string dir = make_temp_dir("mesh4d-progress");
   RunningServer server(dir + "/data");
@@ -169,7 +169,8 @@ TEST(ClientProgress, LiveLineOnATerminalPlainLinesOtherwise) {
       MESH4D_CLIENT_BIN, "--server", server.address(), "submit", dir + "/ventricle.nii.gz",
       "--delta",         "6",        "--wait"};
   // script(1) gives the client a pseudo-terminal and copies what it writes.
-  std::string command;
+  // A narrow terminal: the live line must be cut to fit, or rewriting it would wrap.
+  std::string command = "stty cols 60 rows 20; ";
   for (const auto& a : submit) command += "'" + a + "' ";
   const RunResult tty =
       run_command({"/usr/bin/script", "-qefc", command, "/dev/null"}, std::chrono::seconds(300));
@@ -177,6 +178,17 @@ TEST(ClientProgress, LiveLineOnATerminalPlainLinesOtherwise) {
   EXPECT_NE(tty.output.find('\r'), std::string::npos);
   EXPECT_NE(tty.output.find("\x1b[K"), std::string::npos) << "the live line is rewritten";
   EXPECT_NE(tty.output.find("REFINING"), std::string::npos) << tty.output;
+  std::size_t live_lines = 0;
+  for (std::size_t at = tty.output.find('\r'); at != std::string::npos;
+       at = tty.output.find('\r', at + 1)) {
+    // (The terminal turns each "\n" into "\r\n": those are not live lines.)
+    if (at + 1 < tty.output.size() && tty.output[at + 1] == '\n') continue;
+    const std::size_t end = tty.output.find("\x1b[K", at);
+    if (end == std::string::npos) continue;
+    ++live_lines;
+    EXPECT_LT(end - at - 1, 60u) << "a live line wider than the terminal";
+  }
+  EXPECT_GE(live_lines, 2u);
 
   const RunResult plain = run_command(submit, std::chrono::seconds(300));
   ASSERT_EQ(plain.exit_code, 0) << plain.output;
