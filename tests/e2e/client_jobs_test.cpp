@@ -3,8 +3,11 @@
 // server gone (exit 3). Their unknown-id and bad-argument failures are in bad_input_test.cpp.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <csignal>
 #include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "domain/image_io.h"
 #include "domain/phantoms.h"
@@ -92,6 +95,61 @@ TEST(ClientJobs, EachSubcommandOnRealJobsThenWithoutAServer) {
     EXPECT_EQ(r.exit_code, 3) << r.output;
     EXPECT_NE(r.output.find("mesh4d-client:"), std::string::npos) << r.output;
   }
+}
+
+// submit's ways to say what to mesh: a series of 3D frames, a JSON parameter file, flags.
+TEST(ClientJobs, SubmitTakesFramesParameterFilesAndFlags) {
+  const std::string dir = make_temp_dir("mesh4d-client-submit");
+  RunningServer server(dir + "/data");
+  const auto client = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), {MESH4D_CLIENT_BIN, "--server", server.address()});
+    return run_command(args, std::chrono::seconds(120));
+  };
+  domain::write_nifti(domain::hypersphere_phantom({24, 24, 24, 6}, {1, 1, 1, 4}, 9),
+                      dir + "/sphere.nii.gz");
+  // Its six frames as 3D files, split by nibabel (a foreign writer).
+  const RunResult split =
+      run_command({"/usr/bin/python3", "-c",
+                   "import nibabel as n, sys\n"
+                   "im = n.load(sys.argv[1])\n"
+                   "for k in range(im.shape[3]):\n"
+                   "    n.save(n.Nifti1Image(im.get_fdata()[..., k].astype('uint8'), im.affine), "
+                   "sys.argv[2] + '/frame%d.nii' % k)\n",
+                   dir + "/sphere.nii.gz", dir});
+  ASSERT_EQ(split.exit_code, 0) << split.output;
+  std::vector<std::string> frames_args{"submit", "--frames"};
+  for (int k = 0; k < 6; ++k) frames_args.push_back(dir + "/frame" + std::to_string(k) + ".nii");
+  for (const char* a : {"--time-scale", "4", "--delta", "3", "--wait", "--out"})
+    frames_args.push_back(a);
+  frames_args.push_back(dir + "/frames.m4d");
+  const RunResult frames = client(frames_args);
+  ASSERT_EQ(frames.exit_code, 0) << frames.output;
+  const mesh::Mesh4 m = mesh::read_m4d(dir + "/frames.m4d");
+  double t_max = 0;
+  for (const auto& p : m.vertices) t_max = std::max(t_max, p[3]);
+  EXPECT_GT(t_max, 4 * 4.0) << "frames four time units apart: the mesh spans them";
+
+  {
+    std::ofstream(dir + "/good.json") << R"({"delta": 3, "seed": 7, "rule_order": "paper",
+                                            "radius_edge_bound": 1.8})";
+    const RunResult r = client({"submit", dir + "/sphere.nii.gz", "--params", dir + "/good.json",
+                                "--wait", "--out", dir + "/params.m4d"});
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const RunResult stats =
+        run_command({MESH4D_CLIENT_BIN, "stats", dir + "/params.m4d", "--json"});
+    ASSERT_EQ(stats.exit_code, 0) << stats.output;
+    const double rho_max = nlohmann::json::parse(stats.output)["radius_edge_ratio"]["max"];
+    EXPECT_LT(rho_max, 1.8) << "the file's radius-edge bound";
+    EXPECT_GT(rho_max, 1.5) << "and not the default 2 either";
+  }
+  std::ofstream(dir + "/bad.json") << R"({"deltaa": 3})";
+  const RunResult bad = client({"submit", dir + "/sphere.nii.gz", "--params", dir + "/bad.json"});
+  EXPECT_EQ(bad.exit_code, 6) << bad.output;
+  EXPECT_NE(bad.output.find("unknown parameter 'deltaa'"), std::string::npos) << bad.output;
+  const RunResult rho = client({"submit", dir + "/sphere.nii.gz", "--rho", "0.1"});
+  EXPECT_EQ(rho.exit_code, 4) << rho.output;
+  EXPECT_NE(rho.output.find("radius_edge_bound = 0.1 is out of range"), std::string::npos)
+      << rho.output;
 }
 
 }  // namespace
