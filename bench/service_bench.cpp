@@ -135,7 +135,8 @@ int main(int argc, char** argv) {
   const std::string port_file = dir + "/port";
   testing::ChildProcess server(
       {MESH4D_SERVER_BIN, "--listen", "127.0.0.1:0", "--port-file", port_file, "--data-dir",
-       dir + "/data", "--threads-per-job", "1", "--metrics-listen", "", "--max-queued-jobs", "64"},
+       dir + "/data", "--threads-per-job", "1", "--metrics-listen", "", "--http-listen", "",
+       "--max-queued-jobs", "64"},
       dir + "/server.log");
   const std::string port = testing::wait_for_file(port_file, std::chrono::seconds(20));
   if (port.empty()) {

@@ -16,6 +16,8 @@ find_package(gRPC CONFIG REQUIRED)
 find_package(nlohmann_json 3.11 REQUIRED)
 # Debian's prometheus-cpp config has no version file, so no version is requested.
 find_package(prometheus-cpp CONFIG REQUIRED)
+# civetweb (brought by prometheus-cpp) also serves the REST face.
+find_package(civetweb CONFIG REQUIRED)
 find_package(CLI11 CONFIG REQUIRED)
 find_package(spdlog CONFIG REQUIRED)
 find_package(OpenSSL REQUIRED)

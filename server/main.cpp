@@ -17,6 +17,7 @@
 #include "job_store.h"
 #include "mesh_service.h"
 #include "metrics.h"
+#include "rest_api.h"
 #include "server_options.h"
 
 namespace {
@@ -28,13 +29,13 @@ std::string bound_address(const std::string& listen, int port) {
 }
 
 // Written to a temporary file then renamed, so a reader never sees a partial number.
-// The gRPC port on the first line; the metrics port, when served, on the second.
-bool write_port_file(const std::string& path, int port, int metrics_port) {
+// The gRPC port on the first line, then the metrics port and the HTTP port (0 when off).
+bool write_port_file(const std::string& path, int port, int metrics_port, int http_port) {
   const std::string tmp = path + ".tmp";
   {
     std::ofstream out(tmp, std::ios::trunc);
     out << port << "\n";
-    if (metrics_port) out << metrics_port << "\n";
+    out << metrics_port << "\n" << http_port << "\n";
     if (!out.flush()) return false;
   }
   std::error_code ec;
@@ -122,6 +123,18 @@ int main(int argc, char** argv) {
   JobManager jobs(*store, config, metrics.get());
   for (const auto& problem : jobs.start()) spdlog::warn("{}", problem);
   MeshService service(jobs, options.token, metrics.get());
+  std::unique_ptr<RestApi> rest;
+  if (!options.http_listen.empty()) {
+    try {
+      rest = std::make_unique<RestApi>(jobs, options.http_listen, options.token,
+                                       config.max_image_bytes + (1u << 20), metrics.get());
+    } catch (const std::exception& e) {
+      spdlog::error("{}", e.what());
+      return 2;
+    }
+    spdlog::info("REST API and dashboard on http://{}/",
+                 bound_address(options.http_listen, rest->port()));
+  }
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
@@ -143,7 +156,8 @@ int main(int argc, char** argv) {
   spdlog::info("mesh4d-server listening on {}, data in {}", bound_address(options.listen, port),
                options.data_dir);
   if (!options.port_file.empty() &&
-      !write_port_file(options.port_file, port, metrics ? metrics->port() : 0)) {
+      !write_port_file(options.port_file, port, metrics ? metrics->port() : 0,
+                       rest ? rest->port() : 0)) {
     spdlog::error("cannot write port file {}", options.port_file);
     server->Shutdown();
     return 2;

@@ -45,6 +45,8 @@ void load_config_file(const std::string& path, ServerOptions& o) {
         o.tls_key = value.get<std::string>();
       else if (key == "metrics_listen")
         o.metrics_listen = value.get<std::string>();
+      else if (key == "http_listen")
+        o.http_listen = value.get<std::string>();
       else if (key == "log_format")
         o.log_format = value.get<std::string>();
       else
@@ -96,6 +98,10 @@ void add_server_options(CLI::App& app, ServerOptions& o) {
   app.add_option("--metrics-listen", o.metrics_listen,
                  "host:port of the Prometheus /metrics endpoint (empty: off; port 0: any)")
       ->envname("MESH4D_METRICS_LISTEN")
+      ->capture_default_str();
+  app.add_option("--http-listen", o.http_listen,
+                 "host:port of the REST/JSON API and the dashboard (empty: off; port 0: any)")
+      ->envname("MESH4D_HTTP_LISTEN")
       ->capture_default_str();
   app.add_option("--log-format", o.log_format, "json (one object a line, with job ids) or text")
       ->envname("MESH4D_LOG_FORMAT")

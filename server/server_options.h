@@ -29,6 +29,7 @@ struct ServerOptions {
   std::string tls_cert;        // PEM files: both set switches the API to TLS
   std::string tls_key;
   std::string metrics_listen = "127.0.0.1:9464";  // Prometheus /metrics; empty: off
+  std::string http_listen = "127.0.0.1:8080";     // REST API and dashboard; empty: off
   std::string log_format = "json";                // "json": one object a line; "text"
 };
 

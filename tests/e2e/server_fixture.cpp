@@ -1,5 +1,6 @@
 #include "server_fixture.h"
 
+#include <sstream>
 #include <thread>
 
 #include "upload_encoding.h"
@@ -9,18 +10,19 @@ namespace mesh4d::testing {
 RunningServer::RunningServer(const std::string& data_dir, const std::vector<std::string>& flags) {
   const std::string port_file = data_dir + ".port";
   std::remove(port_file.c_str());
-  std::vector<std::string> argv{MESH4D_SERVER_BIN,  "--listen",          "127.0.0.1:0",
-                                "--port-file",      port_file,           "--data-dir",
-                                data_dir,           "--threads-per-job", "1",
-                                "--metrics-listen", "127.0.0.1:0"};
+  std::vector<std::string> argv{
+      MESH4D_SERVER_BIN, "--listen",      "127.0.0.1:0",       "--port-file", port_file,
+      "--data-dir",      data_dir,        "--threads-per-job", "1",           "--metrics-listen",
+      "127.0.0.1:0",     "--http-listen", "127.0.0.1:0"};
   argv.insert(argv.end(), flags.begin(), flags.end());
   process_ = std::make_unique<ChildProcess>(argv, data_dir + ".log");
   const std::string port = wait_for_file(port_file, std::chrono::seconds(20));
   if (port.empty()) return;
   address_ = "127.0.0.1:" + std::to_string(std::stoi(port));
-  const auto newline = port.find('\n');
-  if (newline != std::string::npos && newline + 1 < port.size())
-    metrics_port_ = std::stoi(port.substr(newline + 1));
+  // Lines: gRPC port, metrics port, HTTP port (0: not served).
+  std::istringstream lines(port);
+  int grpc_port = 0;
+  lines >> grpc_port >> metrics_port_ >> http_port_;
 }
 
 std::unique_ptr<v1::MeshService::Stub> RunningServer::stub() const {

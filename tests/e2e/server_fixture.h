@@ -21,12 +21,14 @@ class RunningServer {
   RunningServer(const std::string& data_dir, const std::vector<std::string>& flags = {});
   const std::string& address() const { return address_; }
   int metrics_port() const { return metrics_port_; }
+  int http_port() const { return http_port_; }
   ChildProcess& process() { return *process_; }
   std::unique_ptr<v1::MeshService::Stub> stub() const;
 
  private:
   std::string address_;
   int metrics_port_ = 0;
+  int http_port_ = 0;
   std::unique_ptr<ChildProcess> process_;
 };
 

@@ -17,7 +17,7 @@ class ServerHealth : public ::testing::Test {
     server_ = std::make_unique<ChildProcess>(
         std::vector<std::string>{MESH4D_SERVER_BIN, "--listen", "127.0.0.1:0", "--port-file",
                                  port_file, "--data-dir", dir_ + "/data", "--metrics-listen",
-                                 "127.0.0.1:0"},
+                                 "127.0.0.1:0", "--http-listen", "127.0.0.1:0"},
         dir_ + "/server.log");
     const std::string port = wait_for_file(port_file, std::chrono::seconds(20));
     ASSERT_FALSE(port.empty()) << "server did not report its port";

@@ -10,10 +10,10 @@ namespace {
 
 // A self-signed certificate for 127.0.0.1 (the address the client dials), valid for a day.
 bool make_certificate(const std::string& dir) {
-  const RunResult r = run_command(
-      {"/usr/bin/openssl", "req", "-x509", "-newkey", "rsa:2048", "-nodes", "-days", "1", "-subj",
-       "/CN=localhost", "-addext", "subjectAltName=IP:127.0.0.1,DNS:localhost", "-keyout",
-       dir + "/key.pem", "-out", dir + "/cert.pem"});
+  const RunResult r = run_command({"/usr/bin/openssl", "req", "-x509", "-newkey", "rsa:2048",
+                                   "-nodes", "-days", "1", "-subj", "/CN=localhost", "-addext",
+                                   "subjectAltName=IP:127.0.0.1,DNS:localhost", "-keyout",
+                                   dir + "/key.pem", "-out", dir + "/cert.pem"});
   EXPECT_EQ(r.exit_code, 0) << r.output;
   return r.exit_code == 0;
 }
@@ -30,17 +30,17 @@ TEST(Tls, ClientWithTheCaConnectsAndAPlainClientDoesNot) {
   EXPECT_EQ(secure.exit_code, 0) << secure.output;
   EXPECT_EQ(secure.output, "SERVING\n");
 
-  const RunResult plain = run_command(
-      {MESH4D_CLIENT_BIN, "--server", server.address(), "--timeout", "2", "health"});
+  const RunResult plain =
+      run_command({MESH4D_CLIENT_BIN, "--server", server.address(), "--timeout", "2", "health"});
   EXPECT_EQ(plain.exit_code, 3) << plain.output;
 }
 
 TEST(Tls, ACertificateWithoutItsKeyIsRefusedAtStart) {
   const std::string dir = make_temp_dir("mesh4d-tls-half");
   ASSERT_TRUE(make_certificate(dir));
-  const RunResult r = run_command({MESH4D_SERVER_BIN, "--listen", "127.0.0.1:0", "--data-dir",
-                                   dir + "/data", "--metrics-listen", "", "--tls-cert",
-                                   dir + "/cert.pem"});
+  const RunResult r =
+      run_command({MESH4D_SERVER_BIN, "--listen", "127.0.0.1:0", "--data-dir", dir + "/data",
+                   "--metrics-listen", "", "--http-listen", "", "--tls-cert", dir + "/cert.pem"});
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("TLS needs both --tls-cert and --tls-key"), std::string::npos)
       << r.output;

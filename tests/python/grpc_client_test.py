@@ -39,7 +39,8 @@ def start_server(server_bin, folder):
     log = open(os.path.join(folder, "server.log"), "w")
     process = subprocess.Popen([server_bin, "--listen", "127.0.0.1:0", "--port-file", port_file,
                                 "--data-dir", os.path.join(folder, "data"),
-                                "--metrics-listen", "127.0.0.1:0", "--threads-per-job", "1"],
+                                "--metrics-listen", "127.0.0.1:0", "--http-listen", "127.0.0.1:0",
+                                "--threads-per-job", "1"],
                                stdout=log, stderr=subprocess.STDOUT)
     deadline = time.monotonic() + 20
     while time.monotonic() < deadline:

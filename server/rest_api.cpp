@@ -1,0 +1,431 @@
+#include "rest_api.h"
+
+#include <CivetServer.h>
+#include <google/protobuf/util/json_util.h>
+#include <spdlog/spdlog.h>
+
+#include <cctype>
+#include <chrono>
+#include <cstdio>
+#include <future>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <vector>
+
+#include "embedded_files.h"
+#include "mesh/mesh_io.h"
+#include "mesh/mesh_slice.h"
+#include "mesh/vtu_writer.h"
+#include "rest_upload.h"
+#include "service_error.h"
+
+namespace mesh4d::server {
+namespace {
+
+// An error answered before or instead of the job service: HTTP status and gRPC code name.
+struct HttpError {
+  int status;
+  const char* code;
+  std::string message;
+};
+
+// The standard mapping of gRPC codes to HTTP statuses (google.rpc.Code), so that a REST error
+// and a gRPC error of the same call say the same thing.
+HttpError to_http(const ServiceError& e) {
+  switch (e.code()) {
+    case ErrorCode::invalid_argument:
+      return {400, "INVALID_ARGUMENT", e.what()};
+    case ErrorCode::not_found:
+      return {404, "NOT_FOUND", e.what()};
+    case ErrorCode::failed_precondition:
+      return {400, "FAILED_PRECONDITION", e.what()};
+    case ErrorCode::cancelled:
+      return {499, "CANCELLED", e.what()};
+    case ErrorCode::resource_exhausted:
+      return {429, "RESOURCE_EXHAUSTED", e.what()};
+    case ErrorCode::internal:
+      return {500, "INTERNAL", e.what()};
+  }
+  return {500, "UNKNOWN", e.what()};
+}
+
+const char* reason(int status) {
+  switch (status) {
+    case 200:
+      return "OK";
+    case 201:
+      return "Created";
+    case 204:
+      return "No Content";
+    case 400:
+      return "Bad Request";
+    case 401:
+      return "Unauthorized";
+    case 403:
+      return "Forbidden";
+    case 404:
+      return "Not Found";
+    case 405:
+      return "Method Not Allowed";
+    case 429:
+      return "Too Many Requests";
+    case 499:
+      return "Client Closed Request";
+    default:
+      return "Internal Server Error";
+  }
+}
+
+void send(mg_connection* c, int status, const char* type, const std::string& body,
+          const std::string& headers = "") {
+  mg_printf(c,
+            "HTTP/1.1 %d %s\r\nContent-Type: %s\r\nContent-Length: %zu\r\n"
+            "Cache-Control: no-store\r\n%s\r\n",
+            status, reason(status), type, body.size(), headers.c_str());
+  if (!body.empty()) mg_write(c, body.data(), body.size());
+}
+
+void send_error(mg_connection* c, const HttpError& e) {
+  send(c, e.status, "application/json",
+       nlohmann::json{{"code", e.code}, {"message", e.message}}.dump());
+}
+
+std::string to_json(const google::protobuf::Message& m) {
+  google::protobuf::util::JsonPrintOptions options;
+  options.preserve_proto_field_names = true;
+  options.always_print_primitive_fields = true;
+  std::string out;
+  if (!google::protobuf::util::MessageToJsonString(m, &out, options).ok())
+    throw std::runtime_error("cannot print a " + m.GetTypeName() + " as JSON");
+  return out;
+}
+
+std::string url_decode(const std::string& s) {
+  std::vector<char> out(s.size() + 1);
+  const int n = mg_url_decode(s.c_str(), static_cast<int>(s.size()), out.data(),
+                              static_cast<int>(out.size()), 1);
+  return n < 0 ? s : std::string(out.data(), static_cast<std::size_t>(n));
+}
+
+std::map<std::string, std::string> query_of(const mg_request_info* ri) {
+  std::map<std::string, std::string> query;
+  if (!ri->query_string) return query;
+  const std::string q = ri->query_string;
+  for (std::size_t at = 0; at <= q.size();) {
+    std::size_t end = q.find('&', at);
+    if (end == std::string::npos) end = q.size();
+    const std::string pair = q.substr(at, end - at);
+    if (!pair.empty()) {
+      const auto eq = pair.find('=');
+      query[url_decode(pair.substr(0, eq))] =
+          eq == std::string::npos ? "" : url_decode(pair.substr(eq + 1));
+    }
+    at = end + 1;
+  }
+  return query;
+}
+
+std::vector<std::string> split_path(const std::string& rest) {
+  std::vector<std::string> parts;
+  std::size_t at = 0;
+  while (at < rest.size()) {
+    std::size_t end = rest.find('/', at);
+    if (end == std::string::npos) end = rest.size();
+    if (end > at) parts.push_back(rest.substr(at, end - at));
+    at = end + 1;
+  }
+  return parts;
+}
+
+// civetweb's worker threads have small stacks (ITK's readers and the slicer need more): heavy
+// work runs on a thread of its own, with the default stack, while the worker waits.
+template <typename F>
+auto on_full_stack(F&& work) {
+  return std::async(std::launch::async, std::forward<F>(work)).get();
+}
+
+bool terminal(v1::JobState s) {
+  return s == v1::JOB_STATE_SUCCEEDED || s == v1::JOB_STATE_FAILED || s == v1::JOB_STATE_CANCELLED;
+}
+
+const char* event_name(const v1::JobEvent& e) {
+  switch (e.event_case()) {
+    case v1::JobEvent::kSnapshot:
+      return "snapshot";
+    case v1::JobEvent::kState:
+      return "state";
+    case v1::JobEvent::kProgress:
+      return "progress";
+    case v1::JobEvent::kFinished:
+      return "finished";
+    default:
+      return "event";
+  }
+}
+
+std::string hex(const std::array<std::uint8_t, 32>& digest) {
+  std::string out;
+  char byte[3];
+  for (std::uint8_t b : digest) std::snprintf(byte, sizeof byte, "%02x", b), out += byte;
+  return out;
+}
+
+}  // namespace
+
+class RestApi::Handler : public CivetHandler {
+ public:
+  Handler(JobManager& jobs, std::string token, std::uint64_t max_body, JobObserver* observer)
+      : jobs_(jobs), token_(std::move(token)), max_body_(max_body), observer_(observer) {}
+
+  bool handleGet(CivetServer*, mg_connection* c) override { return serve(c, "GET"); }
+  bool handlePost(CivetServer*, mg_connection* c) override { return serve(c, "POST"); }
+  bool handleDelete(CivetServer*, mg_connection* c) override { return serve(c, "DELETE"); }
+  bool handlePut(CivetServer*, mg_connection* c) override { return serve(c, "PUT"); }
+
+ private:
+  bool serve(mg_connection* c, const std::string& method) {
+    const mg_request_info* ri = mg_get_request_info(c);
+    const std::string uri = ri->local_uri ? ri->local_uri : "/";
+    const auto query = query_of(ri);
+    try {
+      route(c, method, uri, query);
+    } catch (const ServiceError& e) {
+      send_error(c, to_http(e));
+    } catch (const HttpError& e) {
+      send_error(c, e);
+    } catch (const std::exception& e) {
+      spdlog::error("REST {} {}: {}", method, uri, e.what());
+      send_error(c, {500, "INTERNAL", e.what()});
+    }
+    return true;
+  }
+
+  void route(mg_connection* c, const std::string& method, const std::string& uri,
+             const std::map<std::string, std::string>& query) {
+    if (uri == "/" || uri == "/index.html") {
+      require(method, "GET");
+      send(c, 200, "text/html; charset=utf-8", embedded::dashboard_html());
+      return;
+    }
+    if (uri == "/openapi.yaml") {
+      require(method, "GET");
+      send(c, 200, "application/yaml", embedded::openapi_yaml());
+      return;
+    }
+    if (uri != "/v1/jobs" && uri.rfind("/v1/jobs/", 0) != 0)
+      throw HttpError{404, "NOT_FOUND", "no such path: " + uri + " (the API is under /v1/jobs)"};
+    authorize(c, query);
+    const auto parts = split_path(uri.substr(std::string("/v1/jobs").size()));
+    if (parts.empty()) {
+      if (method == "GET") return list(c, query);
+      require(method, "POST");
+      return submit(c, query);
+    }
+    const std::string& id = parts[0];
+    if (parts.size() == 1) {
+      if (method == "GET") return send(c, 200, "application/json", to_json(jobs_.get(id)));
+      require(method, "DELETE");
+      jobs_.remove(id);
+      return send(c, 204, "application/json", "");
+    }
+    if (parts.size() == 2 && parts[1] == "cancel") {
+      require(method, "POST");
+      return send(c, 200, "application/json", to_json(jobs_.cancel(id)));
+    }
+    if (parts.size() == 2 && parts[1] == "events") {
+      require(method, "GET");
+      return events(c, id);
+    }
+    if (parts.size() == 2 && parts[1] == "mesh") {
+      require(method, "GET");
+      return mesh(c, id);
+    }
+    if (parts.size() == 3 && parts[1] == "slices") {
+      require(method, "GET");
+      return slice(c, id, parts[2], query);
+    }
+    throw HttpError{404, "NOT_FOUND", "no such path: " + uri};
+  }
+
+  static void require(const std::string& method, const char* allowed) {
+    if (method != allowed)
+      throw HttpError{405, "UNIMPLEMENTED",
+                      method + " is not supported here (use " + allowed + ")"};
+  }
+
+  void authorize(mg_connection* c, const std::map<std::string, std::string>& query) const {
+    if (token_.empty()) return;
+    const char* header = mg_get_header(c, "Authorization");
+    std::string presented;
+    if (header)
+      presented = header;
+    else if (const auto it = query.find("access_token"); it != query.end())
+      presented = "Bearer " + it->second;  // EventSource in browsers cannot set headers
+    if (presented.empty())
+      throw HttpError{401, "UNAUTHENTICATED",
+                      "this server requires a token: send 'Authorization: Bearer <token>'"};
+    if (presented != "Bearer " + token_)
+      throw HttpError{403, "PERMISSION_DENIED", "the token is not valid for this server"};
+  }
+
+  void list(mg_connection* c, const std::map<std::string, std::string>& query) {
+    v1::JobState state = v1::JOB_STATE_UNSPECIFIED;
+    if (const auto it = query.find("state"); it != query.end() && !it->second.empty()) {
+      std::string upper = it->second;
+      for (char& ch : upper) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+      if (upper.rfind("JOB_STATE_", 0) != 0) upper = "JOB_STATE_" + upper;
+      if (!v1::JobState_Parse(upper, &state))
+        throw ServiceError(
+            ErrorCode::invalid_argument,
+            "unknown state '" + it->second + "' (queued, running, succeeded, failed, cancelled)");
+    }
+    std::uint32_t page_size = 0;
+    if (const auto it = query.find("page_size"); it != query.end()) {
+      char* end = nullptr;
+      const unsigned long n = std::strtoul(it->second.c_str(), &end, 10);
+      if (it->second.empty() || *end != '\0' || n > 100000)
+        throw ServiceError(ErrorCode::invalid_argument,
+                           "page_size '" + it->second + "' is not a count up to 100000");
+      page_size = static_cast<std::uint32_t>(n);
+    }
+    const auto token = query.count("page_token") ? query.at("page_token") : std::string();
+    auto page = jobs_.list(state, page_size, token);
+    v1::ListJobsResponse response;
+    for (auto& job : page.jobs) *response.add_jobs() = std::move(job);
+    response.set_next_page_token(page.next_token);
+    send(c, 200, "application/json", to_json(response));
+  }
+
+  void submit(mg_connection* c, const std::map<std::string, std::string>& query) {
+    const mg_request_info* ri = mg_get_request_info(c);
+    if (ri->content_length > 0 && static_cast<std::uint64_t>(ri->content_length) > max_body_)
+      throw ServiceError(ErrorCode::resource_exhausted,
+                         "the upload (" + std::to_string(ri->content_length) +
+                             " bytes) is over the server's limit of " + std::to_string(max_body_));
+    std::string body;
+    if (ri->content_length > 0) body.reserve(static_cast<std::size_t>(ri->content_length));
+    std::vector<char> buffer(1 << 16);
+    for (int n; (n = mg_read(c, buffer.data(), buffer.size())) > 0;) {
+      body.append(buffer.data(), static_cast<std::size_t>(n));
+      if (body.size() > max_body_)
+        throw ServiceError(
+            ErrorCode::resource_exhausted,
+            "the upload is over the server's limit of " + std::to_string(max_body_) + " bytes");
+    }
+    if (observer_) observer_->on_bytes_received(body.size());
+    const auto submitted = on_full_stack([&] {
+      RestUpload upload = decode_rest_upload(body, query);
+      return jobs_.submit(upload.spec, std::move(upload.data));
+    });
+    v1::SubmitJobResponse response;
+    *response.mutable_job() = submitted.job;
+    response.set_deduplicated(submitted.deduplicated);
+    send(c, submitted.deduplicated ? 200 : 201, "application/json", to_json(response),
+         "Location: /v1/jobs/" + submitted.job.id() + "\r\n");
+  }
+
+  // Server-Sent Events: the same events as WatchJob, one per message ("event:" its kind,
+  // "id:" its sequence, "data:" the JobEvent as JSON), until the job ends.
+  void events(mg_connection* c, const std::string& id) {
+    const v1::JobEvent first = jobs_.snapshot(id);  // an unknown id is a plain 404 before this
+    mg_printf(c,
+              "HTTP/1.1 200 OK\r\nContent-Type: text/event-stream\r\nCache-Control: no-store\r\n"
+              "Connection: close\r\n\r\n");
+    const auto write = [c](const v1::JobEvent& e) {
+      const std::string message = "event: " + std::string(event_name(e)) +
+                                  "\nid: " + std::to_string(e.sequence()) +
+                                  "\ndata: " + to_json(e) + "\n\n";
+      return mg_write(c, message.data(), message.size()) > 0;
+    };
+    if (!write(first) || terminal(first.snapshot().state())) return;
+    std::uint64_t seen = first.sequence();
+    std::vector<v1::JobEvent> batch;
+    for (int quiet = 0;; ++quiet) {
+      batch.clear();
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(500);
+      if (!jobs_.wait(id, seen, deadline, &batch)) {
+        const std::string gone =
+            "event: error\ndata: " +
+            nlohmann::json{{"code", "NOT_FOUND"}, {"message", "the job was deleted"}}.dump() +
+            "\n\n";
+        mg_write(c, gone.data(), gone.size());
+        return;
+      }
+      for (const auto& e : batch) {
+        if (!write(e)) return;  // the reader left
+        seen = e.sequence();
+        if ((e.has_snapshot() && terminal(e.snapshot().state())) ||
+            (e.event_case() == v1::JobEvent::kState && terminal(e.state())))
+          return;
+        quiet = 0;
+      }
+      // A comment now and then: finds a reader that left while nothing happened.
+      if (quiet >= 20 && mg_write(c, ":\n\n", 3) <= 0) return;
+      if (quiet >= 20) quiet = 0;
+    }
+  }
+
+  void mesh(mg_connection* c, const std::string& id) {
+    const auto result = jobs_.result(id);
+    const auto digest =
+        mesh::sha256(reinterpret_cast<const std::uint8_t*>(result.mesh.data()), result.mesh.size());
+    send(c, 200, "application/octet-stream", result.mesh,
+         "Content-Disposition: attachment; filename=\"" + id +
+             ".m4d\"\r\nX-Mesh4d-SHA256: " + hex(digest) + "\r\n");
+    if (observer_) observer_->on_bytes_sent(result.mesh.size());
+  }
+
+  void slice(mg_connection* c, const std::string& id, const std::string& file,
+             const std::map<std::string, std::string>& query) {
+    const std::string suffix = ".vtu";
+    if (file.size() <= suffix.size() ||
+        file.compare(file.size() - suffix.size(), suffix.size(), suffix) != 0)
+      throw ServiceError(ErrorCode::invalid_argument,
+                         "a slice is named by its time: /slices/{t}.vtu, not " + file);
+    const std::string t_text = file.substr(0, file.size() - suffix.size());
+    char* end = nullptr;
+    const double t = std::strtod(t_text.c_str(), &end);
+    if (*end != '\0' || !std::isfinite(t))
+      throw ServiceError(ErrorCode::invalid_argument,
+                         "slice time '" + t_text + "' is not a number");
+    const bool boundary = query.count("boundary") && query.at("boundary") != "0";
+    const std::string vtu = on_full_stack([&] {
+      const auto result = jobs_.result(id);
+      const mesh::Mesh4 m = mesh::decode_m4d(
+          reinterpret_cast<const std::uint8_t*>(result.mesh.data()), result.mesh.size());
+      const mesh::SliceMesh s = mesh::slice_mesh(m, t, boundary);
+      return boundary ? mesh::slice_boundary_vtu(s) : mesh::slice_vtu(m, s);
+    });
+    send(c, 200, "application/xml", vtu);
+  }
+
+  JobManager& jobs_;
+  const std::string token_;
+  const std::uint64_t max_body_;
+  JobObserver* observer_;
+};
+
+RestApi::RestApi(JobManager& jobs, const std::string& listen, std::string token,
+                 std::uint64_t max_body_bytes, JobObserver* observer)
+    : handler_(std::make_unique<Handler>(jobs, std::move(token), max_body_bytes, observer)) {
+  const std::vector<std::string> options = {"listening_ports",   listen, "num_threads", "32",
+                                            "enable_keep_alive", "no"};
+  try {
+    server_ = std::make_unique<CivetServer>(options);
+  } catch (const CivetException& e) {
+    throw std::runtime_error(std::string("cannot serve HTTP on ") + listen + ": " + e.what());
+  }
+  server_->addHandler("/", *handler_);
+}
+
+RestApi::~RestApi() {
+  if (server_) server_->close();  // stops the workers before the handler goes
+}
+
+int RestApi::port() const {
+  const auto ports = server_->getListeningPorts();
+  return ports.empty() ? 0 : ports.front();
+}
+
+}  // namespace mesh4d::server

@@ -1,0 +1,124 @@
+#include "rest_upload.h"
+
+#include <google/protobuf/util/json_util.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <random>
+
+#include "domain/image_io.h"
+#include "service_error.h"
+#include "upload_encoding.h"
+
+namespace mesh4d::server {
+namespace {
+
+// ITK picks its reader by file name: the body's format, from ?format= or its first bytes.
+std::string file_suffix(const std::string& body, const std::map<std::string, std::string>& query) {
+  if (const auto it = query.find("format"); it != query.end()) {
+    for (const char* known : {"nii", "nii.gz", "nrrd", "nhdr", "mha", "mhd"})
+      if (it->second == known) return std::string(".") + known;
+    throw ServiceError(ErrorCode::invalid_argument,
+                       "format '" + it->second + "' is not one of nii, nii.gz, nrrd, mha");
+  }
+  if (body.size() >= 2 && static_cast<unsigned char>(body[0]) == 0x1f &&
+      static_cast<unsigned char>(body[1]) == 0x8b)
+    return ".nii.gz";
+  if (body.rfind("NRRD", 0) == 0) return ".nrrd";
+  if (body.rfind("ObjectType", 0) == 0 || body.rfind("NDims", 0) == 0) return ".mha";
+  if (body.size() >= 348 && (body.compare(344, 4, std::string("n+1\0", 4)) == 0 ||
+                             body.compare(344, 4, std::string("n+2\0", 4)) == 0))
+    return ".nii";
+  throw ServiceError(ErrorCode::invalid_argument,
+                     "the body is not a NIfTI (.nii, .nii.gz), NRRD or MetaImage (.mha) image; "
+                     "send the file itself (curl --data-binary @FILE) or say ?format=");
+}
+
+// The image file, for as long as ITK reads it.
+class TemporaryFile {
+ public:
+  TemporaryFile(const std::string& contents, const std::string& suffix) {
+    std::random_device random;
+    path_ =
+        std::filesystem::temp_directory_path() /
+        ("mesh4d-upload-" + std::to_string(::getpid()) + "-" + std::to_string(random()) + suffix);
+    std::ofstream out(path_, std::ios::binary);
+    out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
+    if (!out.flush())
+      throw ServiceError(ErrorCode::internal, "cannot write the upload to " + path_.string());
+  }
+  ~TemporaryFile() {
+    std::error_code ignored;
+    std::filesystem::remove(path_, ignored);
+  }
+  std::string path() const { return path_.string(); }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// A query value as JSON: a number when it reads as one, else a string (enum names).
+nlohmann::json json_value(const std::string& key, const std::string& value) {
+  char* end = nullptr;
+  const double number = std::strtod(value.c_str(), &end);
+  if (!value.empty() && end == value.c_str() + value.size() && std::isfinite(number)) {
+    // Parsed as JSON first, so that a 64-bit seed keeps every digit.
+    const auto exact = nlohmann::json::parse(value, nullptr, false);
+    return exact.is_discarded() ? nlohmann::json(number) : exact;
+  }
+  if (key == "rule_order" && (value == "paper" || value == "r3_first"))
+    return value == "paper" ? "RULE_ORDER_PAPER" : "RULE_ORDER_R3_FIRST";
+  return value;
+}
+
+}  // namespace
+
+RestUpload decode_rest_upload(const std::string& body,
+                              const std::map<std::string, std::string>& query) {
+  if (body.empty())
+    throw ServiceError(ErrorCode::invalid_argument,
+                       "the request has no body: send an image file (curl --data-binary @FILE)");
+  RestUpload upload;
+  const TemporaryFile file(body, file_suffix(body, query));
+  try {
+    const auto image = domain::read_label_image(file.path());
+    upload.data = client::encode_upload(image, upload.spec.mutable_image());
+  } catch (const ServiceError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw ServiceError(ErrorCode::invalid_argument,
+                       std::string("the body is not a readable label image: ") + e.what());
+  }
+  // Every other query key is a RefineParams field: protobuf's JSON parser checks names, types
+  // and enum values, the job manager the ranges (as for gRPC).
+  nlohmann::json params = nlohmann::json::object();
+  for (const auto& [key, value] : query) {
+    if (key == "name") {
+      upload.spec.set_name(value);
+    } else if (key == "request_id") {
+      upload.spec.set_request_id(value);
+    } else if (key == "time_scale") {
+      char* end = nullptr;
+      const double t = std::strtod(value.c_str(), &end);
+      if (value.empty() || end != value.c_str() + value.size())
+        throw ServiceError(ErrorCode::invalid_argument,
+                           "time_scale '" + value + "' is not a number");
+      upload.spec.mutable_image()->mutable_spacing()->set_t(t);
+    } else if (key != "format" && key != "access_token") {
+      params[key] = json_value(key, value);
+    }
+  }
+  google::protobuf::util::JsonParseOptions options;
+  const auto status = google::protobuf::util::JsonStringToMessage(
+      params.dump(), upload.spec.mutable_params(), options);
+  if (!status.ok())
+    throw ServiceError(ErrorCode::invalid_argument,
+                       "bad parameter in the query: " + std::string(status.message()));
+  return upload;
+}
+
+}  // namespace mesh4d::server

@@ -1,0 +1,24 @@
+// A REST submission as the job service takes it: the request body is an image file (NIfTI,
+// NRRD or MetaImage, as `curl --data-binary @heart.nii.gz` sends it), read with the engine's
+// ITK reader and encoded like the gRPC client's upload; the query string carries the
+// parameters, by their RefineParams field names, plus name, request_id, time_scale and format.
+#pragma once
+
+#include <map>
+#include <string>
+
+#include "mesh4d/v1/mesh4d.pb.h"
+
+namespace mesh4d::server {
+
+struct RestUpload {
+  v1::JobSpec spec;
+  std::string data;  // raw labels, as SubmitJob's chunks carry them
+};
+
+/// Decodes a body and its query parameters. Throws ServiceError(invalid_argument) with a
+/// message that names the bad parameter or says what the body is not.
+RestUpload decode_rest_upload(const std::string& body,
+                              const std::map<std::string, std::string>& query);
+
+}  // namespace mesh4d::server
