@@ -8,7 +8,10 @@
 #include <itkMetaImageIOFactory.h>
 #include <itkNiftiImageIOFactory.h>
 #include <itkNrrdImageIOFactory.h>
+#include <zlib.h>
 
+#include <array>
+#include <cstring>
 #include <mutex>
 #include <sstream>
 
@@ -33,6 +36,61 @@ bool is_integer_component(itk::IOComponentEnum c) {
          c == C::INT || c == C::ULONG || c == C::LONG || c == C::ULONGLONG || c == C::LONGLONG;
 }
 
+// ITK's NIfTI reader takes a file that ends early, compressed or not, for a whole one (the
+// missing voxels read as zeros): the stream is read to its end first (zlib reads plain files
+// too) and must hold the header's voxel offset plus every voxel.
+void check_nifti_complete(const std::string& path, std::uint64_t voxel_bytes) {
+  gzFile f = gzopen(path.c_str(), "rb");
+  if (!f) return;  // missing or unreadable: the reader says so
+  std::vector<char> buffer(1 << 16);
+  std::array<unsigned char, 176> header{};
+  std::uint64_t total = 0;
+  int n = 0;
+  while ((n = gzread(f, buffer.data(), static_cast<unsigned>(buffer.size()))) > 0) {
+    for (std::size_t i = 0; i < static_cast<std::size_t>(n) && total + i < header.size(); ++i)
+      header[total + i] = static_cast<unsigned char>(buffer[i]);
+    total += static_cast<std::uint64_t>(n);
+  }
+  int code = Z_OK;
+  const std::string error = n < 0 ? gzerror(f, &code) : "";
+  const int closed = gzclose_r(f);
+  if (n < 0) throw ImageError(path + ": the compressed data is corrupt (" + error + ")");
+  if (closed == Z_BUF_ERROR)
+    throw ImageError(path + ": the compressed file is truncated (it ends inside the data)");
+  // sizeof_hdr says the version (348: NIfTI-1, vox_offset a float at 108; 540: NIfTI-2, an
+  // int64 at 168) and, read swapped, the byte order.
+  const auto read = [&](std::size_t at, std::size_t bytes, bool swap) {
+    std::array<unsigned char, 8> b{};
+    for (std::size_t k = 0; k < bytes; ++k) b[k] = header[at + (swap ? bytes - 1 - k : k)];
+    return b;
+  };
+  std::int32_t sizeof_hdr = 0;
+  bool swap = false;
+  for (bool s : {false, true}) {
+    std::memcpy(&sizeof_hdr, read(0, 4, s).data(), 4);
+    if (sizeof_hdr == 348 || sizeof_hdr == 540) {
+      swap = s;
+      break;
+    }
+  }
+  double offset = 0;
+  if (sizeof_hdr == 348) {
+    float f32;
+    std::memcpy(&f32, read(108, 4, swap).data(), 4);
+    offset = f32;
+  } else if (sizeof_hdr == 540) {
+    std::int64_t i64;
+    std::memcpy(&i64, read(168, 8, swap).data(), 8);
+    offset = static_cast<double>(i64);
+  } else {
+    return;  // not a NIfTI header: ITK will say what it is
+  }
+  if (double(total) < offset + double(voxel_bytes))
+    throw ImageError(path + ": the file is truncated: " + std::to_string(total) +
+                     " bytes hold less than the header's " + std::to_string(voxel_bytes) +
+                     " bytes of voxels");
+}
+
 // Opens the file's header and checks what can be checked before reading voxels.
 itk::ImageIOBase::Pointer open_header(const std::string& path, unsigned expected_dims_min,
                                       unsigned expected_dims_max) {
@@ -49,6 +107,12 @@ itk::ImageIOBase::Pointer open_header(const std::string& path, unsigned expected
   } catch (const itk::ExceptionObject& e) {
     throw ImageError(path + ": cannot read the header: " + e.GetDescription());
   }
+  const auto ends_with = [&](const char* suffix) {
+    const std::string x = suffix;
+    return path.size() > x.size() && path.compare(path.size() - x.size(), x.size(), x) == 0;
+  };
+  if (ends_with(".nii") || ends_with(".nii.gz"))
+    check_nifti_complete(path, io->GetImageSizeInBytes());
   const unsigned n = io->GetNumberOfDimensions();
   if (n < expected_dims_min || n > expected_dims_max) {
     std::ostringstream s;

@@ -136,6 +136,26 @@ TEST(ImageIo, BadFilesGiveClearErrors) {
             std::string::npos);
 }
 
+// A file cut short (an interrupted copy or upload) is refused, compressed or not; ITK alone
+// reads a truncated .nii.gz as if the missing voxels were background.
+TEST(ImageIo, TruncatedFilesAreRefused) {
+  for (const std::string name : {"cut.nii.gz", "cut.nii"}) {
+    SCOPED_TRACE(name);
+    write_nifti(hypersphere_phantom({16, 16, 16, 16}, {1, 1, 1, 1}, 6), temp_path(name));
+    std::string bytes;
+    {
+      std::ifstream in(temp_path(name), std::ios::binary);
+      bytes.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    ASSERT_NO_THROW(read_label_image(temp_path(name)));
+    std::ofstream(temp_path(name), std::ios::binary | std::ios::trunc)
+        << bytes.substr(0, bytes.size() * 2 / 3);
+    EXPECT_THROW(read_label_image(temp_path(name)), ImageError);
+  }
+  EXPECT_NE(error_of([] { read_label_image(temp_path("cut.nii.gz")); }).find("truncated"),
+            std::string::npos);
+}
+
 // The paper's patients (../shared/data/heart4d/README.md): dims, in-plane spacing, labels 0-2.
 TEST(HeartData, FivePatientsLoadWithTheirDimsSpacingAndLabels) {
   const fs::path dir = MESH4D_HEART_DATA_DIR;
