@@ -1,0 +1,172 @@
+#!/usr/bin/python3
+"""The dashboard in a real browser: Debian's headless Chromium loads / from the real
+mesh4d-server while a job runs; through the DevTools protocol (python3-websocket) the test reads
+the page's DOM every half second and checks that the live progress numbers rise, and that the
+finished job shows its quality table, its normalized-volume histogram and a download link. A
+screenshot of the finished page is kept in OUT_DIR/dashboard.png.
+
+usage: dashboard_browser_test.py SERVER_BINARY PHANTOM_BINARY OUT_DIR
+"""
+import base64
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+
+import websocket
+
+CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+                  "--disable-component-update", "--disable-sync", "--window-size=1200,1100",
+                  "--remote-debugging-port=0"]
+
+# What the test reads from the page (the dashboard's own element ids).
+READ_PAGE = """JSON.stringify({
+  job: document.getElementById('job-id').textContent,
+  state: document.getElementById('job-state').textContent,
+  vertices: document.getElementById('vertices').textContent,
+  pentatopes: document.getElementById('pentatopes').textContent,
+  quality_rows: document.querySelectorAll('#quality tbody tr').length,
+  result_shown: !document.getElementById('result').hidden,
+  bars: document.querySelectorAll('#histogram div').length,
+  download: document.getElementById('download').getAttribute('href')
+})"""
+
+
+def start_server(server_bin, folder):
+    port_file = os.path.join(folder, "port")
+    log = open(os.path.join(folder, "server.log"), "w")
+    process = subprocess.Popen(
+        [server_bin, "--listen", "127.0.0.1:0", "--port-file", port_file, "--data-dir",
+         os.path.join(folder, "data"), "--metrics-listen", "", "--http-listen", "127.0.0.1:0",
+         "--threads-per-job", "1"], stdout=log, stderr=subprocess.STDOUT)
+    for _ in range(200):
+        if os.path.exists(port_file):
+            lines = open(port_file).read().split()
+            if len(lines) >= 3:
+                return process, int(lines[2])
+        time.sleep(0.05)
+    process.kill()
+    raise SystemExit("server did not start")
+
+
+def devtools_page(chromium):
+    """The page target's websocket, from the browser's 'DevTools listening on' line."""
+    deadline = time.time() + 60
+    while time.time() < deadline:
+        line = chromium.stderr.readline().decode(errors="replace")
+        if "DevTools listening on ws://" in line:
+            port = int(line.split("ws://127.0.0.1:")[1].split("/")[0])
+            break
+    else:
+        raise SystemExit("chromium did not open its DevTools port")
+    for _ in range(100):
+        targets = json.load(urllib.request.urlopen(f"http://127.0.0.1:{port}/json/list"))
+        pages = [t for t in targets if t["type"] == "page"]
+        if pages:
+            return websocket.create_connection(pages[0]["webSocketDebuggerUrl"], timeout=30)
+        time.sleep(0.1)
+    raise SystemExit("chromium has no page")
+
+
+class DevTools:
+    def __init__(self, ws):
+        self.ws, self.next_id = ws, 0
+
+    def call(self, method, **params):
+        self.next_id += 1
+        self.ws.send(json.dumps({"id": self.next_id, "method": method, "params": params}))
+        while True:
+            message = json.loads(self.ws.recv())
+            if message.get("id") == self.next_id:
+                if "error" in message:
+                    raise RuntimeError(f"{method}: {message['error']}")
+                return message["result"]
+
+    def read_page(self):
+        result = self.call("Runtime.evaluate", expression=READ_PAGE, returnByValue=True)
+        if "value" not in result["result"]:
+            return None  # the page is still loading
+        return json.loads(result["result"]["value"])
+
+
+def count(text):
+    return int(text.replace(",", "")) if text.strip() else 0
+
+
+def main():
+    server_bin, phantom_bin, out_dir = sys.argv[1:4]
+    chromium_bin = shutil.which("chromium")
+    if not chromium_bin:
+        raise SystemExit("chromium is not installed (scripts/setup installs it)")
+    os.makedirs(out_dir, exist_ok=True)
+    folder = tempfile.mkdtemp(prefix="mesh4d-dashboard-")
+    image = os.path.join(folder, "ventricle.nii.gz")
+    subprocess.run([phantom_bin, "ventricle", "--out", image], check=True, capture_output=True)
+    server, port = start_server(server_bin, folder)
+    base = f"http://127.0.0.1:{port}"
+    chromium = None
+    failures = []
+    try:
+        # A job long enough to watch (one thread, a fine delta).
+        request = urllib.request.Request(f"{base}/v1/jobs?delta=3&threads=1&name=browser-test",
+                                         data=open(image, "rb").read(), method="POST")
+        job = json.load(urllib.request.urlopen(request, timeout=60))["job"]["id"]
+        chromium = subprocess.Popen(
+            [chromium_bin, *CHROMIUM_FLAGS, f"--user-data-dir={folder}/profile", base + "/"],
+            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+        tools = DevTools(devtools_page(chromium))
+        seen, final = [], None
+        deadline = time.time() + 300
+        while time.time() < deadline:
+            page = tools.read_page()
+            if page is None:
+                time.sleep(0.2)
+                continue
+            if page["job"] == job and page["state"] == "RUNNING" and page["vertices"]:
+                seen.append(count(page["vertices"]))
+            if page["state"] == "SUCCEEDED" and page["result_shown"] and page["quality_rows"]:
+                final = page
+                break
+            time.sleep(0.5)
+        rises = sum(1 for a, b in zip(seen, seen[1:]) if b > a)
+        print(f"vertex counts seen while running: {seen[:3]} ... {seen[-3:]} ({rises} rises)")
+        if rises < 2:
+            failures.append(f"the live vertex count rose {rises} times (needs 2): {seen}")
+        if any(b < a for a, b in zip(seen, seen[1:])):
+            failures.append(f"the vertex count fell: {seen}")
+        if not final:
+            failures.append("the finished job never showed its quality table")
+        else:
+            print("finished page:", final)
+            if final["job"] != job:
+                failures.append(f"the page shows job {final['job']}, not {job}")
+            if final["quality_rows"] != 2:
+                failures.append("the quality table lacks its two rows")
+            if final["bars"] < 10:
+                failures.append("the normalized-volume histogram is missing")
+            if final["download"] != f"/v1/jobs/{job}/mesh":
+                failures.append(f"download link {final['download']}")
+            if count(final["pentatopes"]) <= 0:
+                failures.append("no pentatope count")
+        shot = tools.call("Page.captureScreenshot", format="png")
+        path = os.path.join(out_dir, "dashboard.png")
+        open(path, "wb").write(base64.b64decode(shot["data"]))
+        print("screenshot:", path)
+    finally:
+        if chromium:
+            chromium.kill()
+            chromium.wait()
+        server.send_signal(signal.SIGTERM)
+        server.wait(timeout=30)
+    for f in failures:
+        print("FAIL:", f)
+    sys.exit(1 if failures else 0)
+
+
+if __name__ == "__main__":
+    main()
