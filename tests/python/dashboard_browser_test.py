@@ -19,6 +19,7 @@ import time
 import urllib.request
 
 import websocket
+from mesh4d_server import start_server
 
 CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
                   "--disable-component-update", "--disable-sync", "--window-size=1200,1100",
@@ -35,23 +36,6 @@ READ_PAGE = """JSON.stringify({
   bars: document.querySelectorAll('#histogram div').length,
   download: document.getElementById('download').getAttribute('href')
 })"""
-
-
-def start_server(server_bin, folder):
-    port_file = os.path.join(folder, "port")
-    log = open(os.path.join(folder, "server.log"), "w")
-    process = subprocess.Popen(
-        [server_bin, "--listen", "127.0.0.1:0", "--port-file", port_file, "--data-dir",
-         os.path.join(folder, "data"), "--metrics-listen", "", "--http-listen", "127.0.0.1:0",
-         "--threads-per-job", "1"], stdout=log, stderr=subprocess.STDOUT)
-    for _ in range(200):
-        if os.path.exists(port_file):
-            lines = open(port_file).read().split()
-            if len(lines) >= 3:
-                return process, int(lines[2])
-        time.sleep(0.05)
-    process.kill()
-    raise SystemExit("server did not start")
 
 
 def devtools_page(chromium):
@@ -107,7 +91,8 @@ def main():
     folder = tempfile.mkdtemp(prefix="mesh4d-dashboard-")
     image = os.path.join(folder, "ventricle.nii.gz")
     subprocess.run([phantom_bin, "ventricle", "--out", image], check=True, capture_output=True)
-    server, port = start_server(server_bin, folder)
+    server, ports = start_server(server_bin, folder)
+    port = ports["http"]
     base = f"http://127.0.0.1:{port}"
     chromium = None
     failures = []

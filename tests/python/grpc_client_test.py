@@ -16,6 +16,7 @@ import tempfile
 import time
 
 import numpy
+from mesh4d_server import start_server
 
 PROTOC = "/usr/bin/protoc"
 GRPC_PYTHON_PLUGIN = "/usr/bin/grpc_python_plugin"
@@ -32,28 +33,6 @@ def generate_stubs(proto_dir, out_dir):
                         f"--plugin=protoc-gen-grpc_python={GRPC_PYTHON_PLUGIN}",
                         os.path.join(include, proto)], check=True)
     sys.path.insert(0, out_dir)
-
-
-def start_server(server_bin, folder):
-    port_file = os.path.join(folder, "port")
-    log = open(os.path.join(folder, "server.log"), "w")
-    process = subprocess.Popen([server_bin, "--listen", "127.0.0.1:0", "--port-file", port_file,
-                                "--data-dir", os.path.join(folder, "data"),
-                                "--metrics-listen", "127.0.0.1:0", "--http-listen", "127.0.0.1:0",
-                                "--threads-per-job", "1"],
-                               stdout=log, stderr=subprocess.STDOUT)
-    deadline = time.monotonic() + 20
-    while time.monotonic() < deadline:
-        if os.path.exists(port_file):
-            with open(port_file) as f:
-                lines = f.read().split("\n")
-            if lines and lines[0].strip():
-                return process, int(lines[0])
-        if process.poll() is not None:
-            break
-        time.sleep(0.05)
-    process.kill()
-    sys.exit("the server did not start; its log:\n" + open(log.name).read())
 
 
 def hypersphere(n, radius):
@@ -103,7 +82,8 @@ def run(server_bin, proto_dir, folder):
     import health_pb2_grpc
     from mesh4d.v1 import mesh4d_pb2 as pb, mesh4d_pb2_grpc as pb_grpc
 
-    process, port = start_server(server_bin, folder)
+    process, ports = start_server(server_bin, folder)
+    port = ports["grpc"]
     try:
         channel = grpc.insecure_channel(f"127.0.0.1:{port}")
         health = health_pb2_grpc.HealthStub(channel).Check(health_pb2.HealthCheckRequest(),

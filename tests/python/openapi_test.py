@@ -20,6 +20,7 @@ import urllib.request
 import nibabel
 import numpy as np
 import yaml
+from mesh4d_server import start_server
 
 FAILURES = []
 
@@ -28,23 +29,6 @@ def check(condition, message):
     if not condition:
         FAILURES.append(message)
         print("FAIL:", message)
-
-
-def start_server(server_bin, folder):
-    port_file = os.path.join(folder, "port")
-    log = open(os.path.join(folder, "server.log"), "w")
-    process = subprocess.Popen(
-        [server_bin, "--listen", "127.0.0.1:0", "--port-file", port_file, "--data-dir",
-         os.path.join(folder, "data"), "--metrics-listen", "", "--http-listen", "127.0.0.1:0",
-         "--threads-per-job", "1"], stdout=log, stderr=subprocess.STDOUT)
-    for _ in range(200):
-        if os.path.exists(port_file):
-            lines = open(port_file).read().split()
-            if len(lines) >= 3:
-                return process, int(lines[2])
-        time.sleep(0.05)
-    process.kill()
-    raise SystemExit("server did not start")
 
 
 def request(base, method, path, body=None):
@@ -123,7 +107,8 @@ def main():
     nibabel.save(nibabel.Nifti1Image(ball, np.eye(4)), image)
     body = open(image, "rb").read()
 
-    process, port = start_server(server_bin, folder)
+    process, ports = start_server(server_bin, folder)
+    port = ports["http"]
     base = f"http://127.0.0.1:{port}"
     try:
         served = request(base, "GET", "/openapi.yaml")

@@ -1,0 +1,29 @@
+"""The real mesh4d-server for the Python tests: started on loopback ports chosen by the system
+(gRPC, metrics and HTTP), one thread a job, its log beside its data."""
+import os
+import subprocess
+import sys
+import time
+
+
+def start_server(server_bin, folder):
+    """Returns (process, ports) with ports = {"grpc", "metrics", "http"}."""
+    port_file = os.path.join(folder, "port")
+    log = open(os.path.join(folder, "server.log"), "w")
+    process = subprocess.Popen([server_bin, "--listen", "127.0.0.1:0", "--port-file", port_file,
+                                "--data-dir", os.path.join(folder, "data"),
+                                "--metrics-listen", "127.0.0.1:0", "--http-listen", "127.0.0.1:0",
+                                "--threads-per-job", "1"],
+                               stdout=log, stderr=subprocess.STDOUT)
+    deadline = time.monotonic() + 20
+    while time.monotonic() < deadline:
+        if os.path.exists(port_file):
+            with open(port_file) as f:
+                lines = f.read().split()
+            if len(lines) >= 3:
+                return process, dict(zip(("grpc", "metrics", "http"), map(int, lines)))
+        if process.poll() is not None:
+            break
+        time.sleep(0.05)
+    process.kill()
+    sys.exit("the server did not start; its log:\n" + open(log.name).read())
