@@ -10,10 +10,8 @@ usage: openapi_test.py SERVER_BINARY OPENAPI_YAML
 import json
 import os
 import signal
-import subprocess
 import sys
 import tempfile
-import time
 import urllib.error
 import urllib.request
 
