@@ -9,7 +9,6 @@ IMAGE is the image that was meshed (label 0 is background); TOLERANCE a relative
 2 %). The .pvd collection's time steps must be frame times: t = (frame) * time scale. Exits 1
 when any (slice, label) is off by more than the tolerance, or when a slice lacks a label.
 """
-import re
 import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
