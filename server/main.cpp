@@ -134,6 +134,14 @@ int main(int argc, char** argv) {
     }
     spdlog::info("REST API and dashboard on http://{}/",
                  bound_address(options.http_listen, rest->port()));
+    // civetweb as Debian builds it loads OpenSSL by name at run time, which a slim image lacks:
+    // the REST face stays plain HTTP; beyond loopback it belongs behind a TLS proxy.
+    if (!options.tls_cert.empty() && options.http_listen.rfind("127.0.0.1:", 0) != 0 &&
+        options.http_listen.rfind("localhost:", 0) != 0)
+      spdlog::warn(
+          "the gRPC port uses TLS but the REST API on {} is plain HTTP: serve it on "
+          "loopback behind a TLS proxy, or turn it off with --http-listen ''",
+          options.http_listen);
   }
 
   grpc::EnableDefaultHealthCheckService(true);
