@@ -7,6 +7,8 @@
 #include <cctype>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <future>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -303,19 +305,18 @@ class RestApi::Handler : public CivetHandler {
       throw ServiceError(ErrorCode::resource_exhausted,
                          "the upload (" + std::to_string(ri->content_length) +
                              " bytes) is over the server's limit of " + std::to_string(max_body_));
-    std::string body;
-    if (ri->content_length > 0) body.reserve(static_cast<std::size_t>(ri->content_length));
-    std::vector<char> buffer(1 << 16);
-    for (int n; (n = mg_read(c, buffer.data(), buffer.size())) > 0;) {
-      body.append(buffer.data(), static_cast<std::size_t>(n));
-      if (body.size() > max_body_)
-        throw ServiceError(
-            ErrorCode::resource_exhausted,
-            "the upload is over the server's limit of " + std::to_string(max_body_) + " bytes");
+    const char* type = mg_get_header(c, "Content-Type");
+    Form form{max_body_, {}, {}, {}, false, {}, false};
+    auto fields = query;
+    if (type && std::string(type).rfind("multipart/form-data", 0) == 0) {
+      read_form(c, form);
+      for (const auto& [key, value] : form.fields) fields.emplace(key, value);  // query wins
+    } else {
+      read_body(c, form.image);
     }
-    if (observer_) observer_->on_bytes_received(body.size());
+    if (observer_) observer_->on_bytes_received(form.image.size());
     const auto submitted = on_full_stack([&] {
-      RestUpload upload = decode_rest_upload(body, query);
+      RestUpload upload = decode_rest_upload(form.image, fields, form.params);
       return jobs_.submit(upload.spec, std::move(upload.data));
     });
     v1::SubmitJobResponse response;
@@ -323,6 +324,86 @@ class RestApi::Handler : public CivetHandler {
     response.set_deduplicated(submitted.deduplicated);
     send(c, submitted.deduplicated ? 200 : 201, "application/json", to_json(response),
          "Location: /v1/jobs/" + submitted.job.id() + "\r\n");
+  }
+
+  // A submission as parts: "image" (the file), "params" (a JSON object), other parts as query
+  // keys (name, request_id, time_scale, ...).
+  struct Form {
+    std::uint64_t limit;
+    std::string image, params;
+    std::map<std::string, std::string> fields;
+    bool too_big;
+    std::string file;  // where the image part is stored
+    bool stored;
+  };
+
+  void read_body(mg_connection* c, std::string& body) const {
+    const mg_request_info* ri = mg_get_request_info(c);
+    if (ri->content_length > 0) body.reserve(static_cast<std::size_t>(ri->content_length));
+    std::vector<char> buffer(1 << 16);
+    for (int n; (n = mg_read(c, buffer.data(), buffer.size())) > 0;) {
+      body.append(buffer.data(), static_cast<std::size_t>(n));
+      if (body.size() > max_body_) throw too_big();
+    }
+  }
+
+  void read_form(mg_connection* c, Form& form) const {
+    // The image part goes to a file (civetweb writes it whole or not at all); the small parts
+    // come as values.
+    const std::filesystem::path file =
+        std::filesystem::temp_directory_path() /
+        ("mesh4d-form-" + std::to_string(reinterpret_cast<std::uintptr_t>(&form)) + "-" +
+         std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
+    form.file = file.string();
+    mg_form_data_handler handler{};
+    handler.field_found = [](const char* key, const char*, char* path, std::size_t size,
+                             void* data) {
+      Form& f = *static_cast<Form*>(data);
+      if (key && std::string(key) == "image" && f.file.size() < size) {
+        std::snprintf(path, size, "%s", f.file.c_str());
+        return static_cast<int>(MG_FORM_FIELD_STORAGE_STORE);
+      }
+      return static_cast<int>(MG_FORM_FIELD_STORAGE_GET);
+    };
+    handler.field_get = [](const char* key, const char* value, std::size_t size, void* data) {
+      Form& f = *static_cast<Form*>(data);
+      const std::string name = key ? key : "";
+      std::string& to = name == "params" ? f.params : f.fields[name];
+      to.append(value ? value : "", size);
+      if (to.size() > (1u << 20)) {
+        f.too_big = true;
+        return static_cast<int>(MG_FORM_FIELD_HANDLE_ABORT);
+      }
+      return static_cast<int>(MG_FORM_FIELD_HANDLE_GET);
+    };
+    handler.field_store = [](const char*, long long size, void* data) {
+      Form& f = *static_cast<Form*>(data);
+      f.stored = true;
+      if (size < 0 || static_cast<std::uint64_t>(size) > f.limit) {
+        f.too_big = true;
+        return static_cast<int>(MG_FORM_FIELD_HANDLE_ABORT);
+      }
+      return static_cast<int>(MG_FORM_FIELD_HANDLE_NEXT);
+    };
+    handler.user_data = &form;
+    const int handled = mg_handle_form_request(c, &handler);
+    if (form.stored) {
+      std::ifstream in(file, std::ios::binary);
+      form.image.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    std::error_code ignored;
+    std::filesystem::remove(file, ignored);
+    if (form.too_big) throw too_big();
+    if (handled < 0)
+      throw ServiceError(ErrorCode::invalid_argument, "the multipart body could not be read");
+    if (form.image.empty())
+      throw ServiceError(ErrorCode::invalid_argument,
+                         "a multipart submission needs an \"image\" part (curl -F image=@FILE)");
+  }
+
+  ServiceError too_big() const {
+    return ServiceError(ErrorCode::resource_exhausted, "the upload is over the server's limit of " +
+                                                           std::to_string(max_body_) + " bytes");
   }
 
   // Server-Sent Events: the same events as WatchJob, one per message ("event:" its kind,

@@ -62,7 +62,7 @@ class TemporaryFile {
 };
 
 // A query value as JSON: a number when it reads as one, else a string (enum names).
-nlohmann::json json_value(const std::string& key, const std::string& value) {
+nlohmann::json json_value(const std::string& value) {
   char* end = nullptr;
   const double number = std::strtod(value.c_str(), &end);
   if (!value.empty() && end == value.c_str() + value.size() && std::isfinite(number)) {
@@ -70,15 +70,14 @@ nlohmann::json json_value(const std::string& key, const std::string& value) {
     const auto exact = nlohmann::json::parse(value, nullptr, false);
     return exact.is_discarded() ? nlohmann::json(number) : exact;
   }
-  if (key == "rule_order" && (value == "paper" || value == "r3_first"))
-    return value == "paper" ? "RULE_ORDER_PAPER" : "RULE_ORDER_R3_FIRST";
   return value;
 }
 
 }  // namespace
 
 RestUpload decode_rest_upload(const std::string& body,
-                              const std::map<std::string, std::string>& query) {
+                              const std::map<std::string, std::string>& query,
+                              const std::string& params_json) {
   if (body.empty())
     throw ServiceError(ErrorCode::invalid_argument,
                        "the request has no body: send an image file (curl --data-binary @FILE)");
@@ -96,7 +95,18 @@ RestUpload decode_rest_upload(const std::string& body,
   // Every other query key is a RefineParams field: protobuf's JSON parser checks names, types
   // and enum values, the job manager the ranges (as for gRPC).
   nlohmann::json params = nlohmann::json::object();
+  std::string json_text = params_json;
+  if (const auto it = query.find("params"); it != query.end() && json_text.empty())
+    json_text = it->second;
+  if (!json_text.empty()) {
+    params = nlohmann::json::parse(json_text, nullptr, false);
+    if (!params.is_object())
+      throw ServiceError(ErrorCode::invalid_argument,
+                         "params must be a JSON object of RefineParams fields, e.g. "
+                         "{\"delta\": 5}");
+  }
   for (const auto& [key, value] : query) {
+    if (key == "params") continue;
     if (key == "name") {
       upload.spec.set_name(value);
     } else if (key == "request_id") {
@@ -109,15 +119,20 @@ RestUpload decode_rest_upload(const std::string& body,
                            "time_scale '" + value + "' is not a number");
       upload.spec.mutable_image()->mutable_spacing()->set_t(t);
     } else if (key != "format" && key != "access_token") {
-      params[key] = json_value(key, value);
+      params[key] = json_value(value);
     }
+  }
+  // The short names of the rule orders, as the client's --params file takes them.
+  if (auto it = params.find("rule_order"); it != params.end() && it->is_string()) {
+    if (*it == "paper") *it = "RULE_ORDER_PAPER";
+    if (*it == "r3_first") *it = "RULE_ORDER_R3_FIRST";
   }
   google::protobuf::util::JsonParseOptions options;
   const auto status = google::protobuf::util::JsonStringToMessage(
       params.dump(), upload.spec.mutable_params(), options);
   if (!status.ok())
     throw ServiceError(ErrorCode::invalid_argument,
-                       "bad parameter in the query: " + std::string(status.message()));
+                       "bad parameter: " + std::string(status.message()));
   return upload;
 }
 

@@ -1,7 +1,8 @@
 // A REST submission as the job service takes it: the request body is an image file (NIfTI,
 // NRRD or MetaImage, as `curl --data-binary @heart.nii.gz` sends it), read with the engine's
 // ITK reader and encoded like the gRPC client's upload; the query string carries the
-// parameters, by their RefineParams field names, plus name, request_id, time_scale and format.
+// parameters, by their RefineParams field names, plus name, request_id, time_scale and format
+// (or a JSON object of them, as a "params" part or key).
 #pragma once
 
 #include <map>
@@ -16,9 +17,12 @@ struct RestUpload {
   std::string data;  // raw labels, as SubmitJob's chunks carry them
 };
 
-/// Decodes a body and its query parameters. Throws ServiceError(invalid_argument) with a
-/// message that names the bad parameter or says what the body is not.
+/// Decodes a body and its query parameters; `params_json` (from a multipart request's "params"
+/// part, or the "params" query key) is a JSON object of RefineParams fields that the other query
+/// keys override. Throws ServiceError(invalid_argument) with a message that names the bad
+/// parameter or says what the body is not.
 RestUpload decode_rest_upload(const std::string& body,
-                              const std::map<std::string, std::string>& query);
+                              const std::map<std::string, std::string>& query,
+                              const std::string& params_json = "");
 
 }  // namespace mesh4d::server

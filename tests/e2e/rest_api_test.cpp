@@ -128,12 +128,24 @@ TEST(RestApi, SubmitFollowEventsDownloadTheMeshAndASlice) {
   EXPECT_EQ(again.json()["job"]["id"], id);
   EXPECT_EQ(again.json()["deduplicated"], true);
 
+  // The same file as a multipart form with a JSON part of parameters.
+  const Http form =
+      curl(dir, base + "/v1/jobs",
+           {"-F", "image=@" + dir + "/sphere.nii.gz", "-F",
+            R"(params={"delta": 4, "seed": 9, "rule_order": "paper"})", "-F", "name=as-form"});
+  ASSERT_EQ(form.status, 201) << form.body;
+  EXPECT_EQ(form.json()["job"]["name"], "as-form");
+  EXPECT_EQ(form.json()["job"]["params"]["delta"], 4.0);
+  EXPECT_EQ(form.json()["job"]["params"]["seed"], "9");
+  EXPECT_EQ(form.json()["job"]["params"]["rule_order"], "RULE_ORDER_PAPER");
+
   const Http got = curl(dir, base + "/v1/jobs/" + id);
   ASSERT_EQ(got.status, 200);
   EXPECT_EQ(got.json()["state"], "JOB_STATE_SUCCEEDED");
   const Http listed = curl(dir, base + "/v1/jobs?state=succeeded");
   ASSERT_EQ(listed.status, 200);
-  ASSERT_EQ(listed.json()["jobs"].size(), 1u);
+  ASSERT_GE(listed.json()["jobs"].size(), 1u);
+  EXPECT_EQ(listed.json()["jobs"][0]["id"], id);
 
   const Http mesh = curl(dir, base + "/v1/jobs/" + id + "/mesh");
   ASSERT_EQ(mesh.status, 200);
@@ -222,6 +234,18 @@ TEST(RestApi, EveryErrorOfTheGrpcTableHasItsHttpStatus) {
        "INVALID_ARGUMENT", "extend_time_frames"},
       {"unknown parameter", "/v1/jobs?deltaa=3", body(sphere), 400, "INVALID_ARGUMENT", "deltaa"},
       {"unknown format", "/v1/jobs?format=png", body(sphere), 400, "INVALID_ARGUMENT", "png"},
+      {"params not an object",
+       "/v1/jobs",
+       {"-F", "image=@" + sphere, "-F", "params=[1]"},
+       400,
+       "INVALID_ARGUMENT",
+       "JSON object"},
+      {"form without an image",
+       "/v1/jobs",
+       {"-F", "name=x"},
+       400,
+       "INVALID_ARGUMENT",
+       "\"image\" part"},
       {"vertex budget over the limit", "/v1/jobs?vertex_budget=200000", body(sphere), 429,
        "RESOURCE_EXHAUSTED", "vertex_budget"},
       {"image over the limit", "/v1/jobs", body(dir + "/ventricle.nii.gz"), 429,
