@@ -38,6 +38,9 @@ void Triangulation::reset() {
   vertex_count_ = 0;
   any_cell_ = kNoCell;
   pending_.clear();
+  // A reset triangulation walks as a new one: the vertex removal reuses one per thread, and
+  // the order of its pentatopes decides the refinement order after it (same seed, same mesh).
+  own_.walk_rng = Workspace::kWalkSeed;
 }
 
 std::size_t Triangulation::number_of_finite_cells() const {

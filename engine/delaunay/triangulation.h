@@ -43,7 +43,8 @@ class Triangulation {
     Cavity cavity;
     std::vector<CellId> created;
     RidgeTable ridges;
-    std::uint64_t walk_rng = 0x9e3779b97f4a7c15ull;
+    static constexpr std::uint64_t kWalkSeed = 0x9e3779b97f4a7c15ull;
+    std::uint64_t walk_rng = kWalkSeed;
     CellAllocator* cells;
   };
 

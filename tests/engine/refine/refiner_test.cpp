@@ -78,6 +78,23 @@ TEST(Refiner, HypersphereTerminatesValidWithBoundedRatioAndTheRightVolume) {
   expect_fidelity(r.mesh, oracle, {0, 1}, kDistanceBound * params.delta);
 }
 
+// One thread and one seed give one mesh, also for the second job of a process: state kept
+// between runs (the vertex removal's per-thread triangulation once carried its walk on) must
+// not leak into the next.
+TEST(Refiner, SameSeedGivesTheSameMeshRunAfterRun) {
+  const auto image = domain::hypersphere_phantom({24, 24, 24, 24}, {1, 1, 1, 1}, 9);
+  const domain::SurfaceOracle oracle(image);
+  RefineParams params;
+  params.delta = 2.5;
+  std::vector<mesh::Mesh4> meshes;
+  for (int run = 0; run < 3; ++run) meshes.push_back(Refiner(oracle, params).run().mesh);
+  ASSERT_GT(meshes[0].pentatopes.size(), 100u);
+  for (int run = 1; run < 3; ++run) {
+    EXPECT_EQ(meshes[run].vertices, meshes[0].vertices) << "run " << run;
+    EXPECT_EQ(meshes[run].pentatopes, meshes[0].pentatopes) << "run " << run;
+  }
+}
+
 TEST(Refiner, VentricleGetsBothLabels) {
   auto image = domain::beating_ventricle_phantom({50, 50, 22, 8}, {3.54, 3.54, 12, 2});
   domain::validate_and_close(image);
