@@ -166,13 +166,6 @@ const char* event_name(const v1::JobEvent& e) {
   }
 }
 
-std::string hex(const std::array<std::uint8_t, 32>& digest) {
-  std::string out;
-  char byte[3];
-  for (std::uint8_t b : digest) std::snprintf(byte, sizeof byte, "%02x", b), out += byte;
-  return out;
-}
-
 }  // namespace
 
 class RestApi::Handler : public CivetHandler {
@@ -306,7 +299,8 @@ class RestApi::Handler : public CivetHandler {
                          "the upload (" + std::to_string(ri->content_length) +
                              " bytes) is over the server's limit of " + std::to_string(max_body_));
     const char* type = mg_get_header(c, "Content-Type");
-    Form form{max_body_, {}, {}, {}, false, {}, false};
+    Form form;
+    form.limit = max_body_;
     auto fields = query;
     if (type && std::string(type).rfind("multipart/form-data", 0) == 0) {
       read_form(c, form);
@@ -329,12 +323,12 @@ class RestApi::Handler : public CivetHandler {
   // A submission as parts: "image" (the file), "params" (a JSON object), other parts as query
   // keys (name, request_id, time_scale, ...).
   struct Form {
-    std::uint64_t limit;
+    std::uint64_t limit = 0;
     std::string image, params;
     std::map<std::string, std::string> fields;
-    bool too_big;
+    bool too_big = false;
     std::string file;  // where the image part is stored
-    bool stored;
+    bool stored = false;
   };
 
   void read_body(mg_connection* c, std::string& body) const {
@@ -449,11 +443,11 @@ class RestApi::Handler : public CivetHandler {
 
   void mesh(mg_connection* c, const std::string& id) {
     const auto result = jobs_.result(id);
-    const auto digest =
-        mesh::sha256(reinterpret_cast<const std::uint8_t*>(result.mesh.data()), result.mesh.size());
+    const std::string digest = mesh::sha256_hex(
+        reinterpret_cast<const std::uint8_t*>(result.mesh.data()), result.mesh.size());
     send(c, 200, "application/octet-stream", result.mesh,
          "Content-Disposition: attachment; filename=\"" + id +
-             ".m4d\"\r\nX-Mesh4d-SHA256: " + hex(digest) + "\r\n");
+             ".m4d\"\r\nX-Mesh4d-SHA256: " + digest + "\r\n");
     if (observer_) observer_->on_bytes_sent(result.mesh.size());
   }
 

@@ -76,6 +76,13 @@ std::array<std::uint8_t, 32> sha256(const std::uint8_t* data, std::size_t size) 
   return digest;
 }
 
+std::string sha256_hex(const std::uint8_t* data, std::size_t size) {
+  static constexpr char kDigits[] = "0123456789abcdef";
+  std::string out;
+  for (std::uint8_t b : sha256(data, size)) out += kDigits[b >> 4], out += kDigits[b & 15];
+  return out;
+}
+
 std::vector<std::uint8_t> encode_m4d(const Mesh4& mesh) {
   const std::size_t nv = mesh.vertices.size(), np = mesh.pentatopes.size(),
                     nb = mesh.boundary.size();

@@ -30,5 +30,7 @@ Mesh4 read_m4d(const std::string& path);
 
 /// SHA-256 of a buffer (32 bytes), as stored in the file and sent by the service.
 std::array<std::uint8_t, 32> sha256(const std::uint8_t* data, std::size_t size);
+/// The same digest as 64 lowercase hex digits (the REST API's X-Mesh4d-SHA256 header).
+std::string sha256_hex(const std::uint8_t* data, std::size_t size);
 
 }  // namespace mesh4d::mesh

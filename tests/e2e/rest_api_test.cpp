@@ -57,13 +57,6 @@ std::string header(const Http& h, const std::string& name) {
   return "";
 }
 
-std::string hex(const std::array<std::uint8_t, 32>& d) {
-  std::string out;
-  char b[3];
-  for (auto x : d) std::snprintf(b, sizeof b, "%02x", x), out += b;
-  return out;
-}
-
 // The SSE messages of a stream: (event name, data as JSON).
 std::vector<std::pair<std::string, nlohmann::json>> sse(const std::string& text) {
   std::vector<std::pair<std::string, nlohmann::json>> events;
@@ -152,7 +145,7 @@ TEST(RestApi, SubmitFollowEventsDownloadTheMeshAndASlice) {
   EXPECT_EQ(header(mesh, "Content-Length"), std::to_string(mesh.body.size()));
   EXPECT_EQ(
       header(mesh, "X-Mesh4d-SHA256"),
-      hex(mesh::sha256(reinterpret_cast<const std::uint8_t*>(mesh.body.data()), mesh.body.size())));
+      mesh::sha256_hex(reinterpret_cast<const std::uint8_t*>(mesh.body.data()), mesh.body.size()));
   const mesh::Mesh4 m =
       mesh::decode_m4d(reinterpret_cast<const std::uint8_t*>(mesh.body.data()), mesh.body.size());
   EXPECT_EQ(std::to_string(m.pentatopes.size()),
