@@ -4,6 +4,15 @@
 #include <cmath>
 
 namespace mesh4d::refine {
+namespace {
+
+double distance(const Point4& a, const Point4& b) {
+  double d = 0;
+  for (int k = 0; k < 4; ++k) d += (a[k] - b[k]) * (a[k] - b[k]);
+  return std::sqrt(d);
+}
+
+}  // namespace
 
 BoundaryDistance measure_boundary_distance(const mesh::Mesh4& mesh,
                                            const domain::SurfaceOracle& oracle,
@@ -16,12 +25,15 @@ BoundaryDistance measure_boundary_distance(const mesh::Mesh4& mesh,
     Point4 centroid{};
     for (auto v : mesh.boundary[i].vertices)
       for (int k = 0; k < 4; ++k) centroid[k] += 0.25 * mesh.vertices[v][k];
-    // The exact closest point (descent), not the sampling shortcut the refiner uses.
+    // The closest point by descent, not the sampling shortcut the refiner uses. Near the
+    // corners of ∂Ω (where three labels meet, the padded time caps) the descent can stop at a
+    // farther surface point than one of the tetrahedron's own vertices, which lie on ∂Ω: the
+    // nearer of the two still bounds the distance from above, and more tightly.
     const domain::SurfacePoint z = oracle.closest_surface_point(centroid);
     if (z.inner == z.outer) continue;
-    double dist = 0;
-    for (int k = 0; k < 4; ++k) dist += (z.point[k] - centroid[k]) * (z.point[k] - centroid[k]);
-    dist = std::sqrt(dist);
+    double dist = distance(z.point, centroid);
+    for (auto v : mesh.boundary[i].vertices)
+      dist = std::min(dist, distance(mesh.vertices[v], centroid));
     d.max = std::max(d.max, dist);
     sum += dist;
     ++d.samples;

@@ -352,7 +352,8 @@ void Refiner::report(ProgressSink* sink, Phase phase, bool force) {
 }
 
 Refiner::Outcome Refiner::insert_and_admit(Worker& w, const Point4& point, VertexKind kind,
-                                           CellId hint, int rule, const Point4* sample) {
+                                           CellId hint, int rule, const Point4* sample,
+                                           double clearance) {
   if (tri_.number_of_vertices() >= params_.vertex_budget) {
     std::ostringstream s;
     s << "refinement needs more than the vertex budget of " << params_.vertex_budget
@@ -379,7 +380,8 @@ Refiner::Outcome Refiner::insert_and_admit(Worker& w, const Point4& point, Verte
   if (kind == VertexKind::feature) {
     // Another thread may have sampled ∂Ω nearby since the rule was decided.
     std::unique_lock lock(features_mutex_);
-    if (sample && features_.any_within(*sample, params_.delta)) return Outcome::conflict;
+    if (sample && features_.any_within(*sample, clearance < 0 ? params_.delta : clearance))
+      return Outcome::conflict;
     features_.add(point);
   }
   const VertexId v = tri_.new_vertex(point, kind, w.guard ? w.locks.owner() : 0);

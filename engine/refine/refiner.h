@@ -148,6 +148,10 @@ class Refiner {
   void drain(ProgressSink* sink);
   void drain_sequential(ProgressSink* sink);
   void drain_parallel(ProgressSink* sink);
+  // A parallel phase's frame: storage and workers ready, each worker on its own workspace and
+  // locks; then, after the threads joined, their pentatopes merged back for serial work.
+  void enter_parallel(unsigned threads);
+  void leave_parallel(unsigned threads);
   // One thread of a parallel phase (refiner_parallel.cpp).
   struct Shared;
   void work(Worker& w, Shared& shared, ProgressSink* sink);
@@ -162,6 +166,13 @@ class Refiner {
   // more of its boundary tetrahedra, seen where three labels meet), none closer than
   // `min_spacing` to a feature vertex; returns how many.
   std::size_t repair_pinches(double min_spacing);
+  struct RepairPoint {
+    Point4 point;
+    Candidate hint;  // a pentatope that contained it when it was found
+  };
+  // Inserts the repair's points (those not within `min_spacing` of a feature vertex), on the
+  // job's threads where there are enough of them; returns how many went in.
+  std::size_t insert_repair_points(const std::vector<RepairPoint>& points, double min_spacing);
   struct PinchedTriangle {
     std::array<mesh4d::VertexId, 3> triangle;              // sorted
     std::vector<std::pair<delaunay::CellId, int>> facets;  // (pentatope, facet index)
@@ -213,11 +224,13 @@ class Refiner {
                   std::vector<PinchedTriangle>* pinched) const;
   // Inserts p (and, for R5, removes the free vertices near it), then admits the new
   // pentatopes. With `sample` (R1: the surface point whose Δ-ball classify() found free of
-  // feature vertices), that ball is checked again under the index's lock, since another thread
-  // may have added one since. Outcome::skipped when p is already a vertex; conflict on another
-  // thread's lock or a feature now in the ball (nothing written then).
+  // feature vertices), that ball (radius `clearance`, Δ when negative) is checked again under
+  // the index's lock, since another thread may have added one since. Outcome::skipped when p is
+  // already a vertex; conflict on another thread's lock or a feature now in the ball (nothing
+  // written then).
   Outcome insert_and_admit(Worker& w, const Point4& p, delaunay::VertexKind kind,
-                           delaunay::CellId hint, int rule, const Point4* sample = nullptr);
+                           delaunay::CellId hint, int rule, const Point4* sample = nullptr,
+                           double clearance = -1);
   void report(ProgressSink* sink, Phase phase, bool force);
   Progress totals() const;  // the workers' counters summed
   mesh::Mesh4 extract(std::vector<std::string>& warnings) const;

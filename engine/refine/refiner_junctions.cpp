@@ -325,7 +325,7 @@ std::size_t Refiner::repair_pinches(double min_spacing) {
   if (found == 0) return 0;
   // Per pinched triangle, the surface center of its largest restricted facet (the one the
   // rules left coarsest); all are found before any goes in, as cells die with insertions.
-  std::vector<std::pair<Point4, CellId>> points;
+  std::vector<RepairPoint> points;
   const auto& st = tri_.store();
   for (const PinchedTriangle& t : pinched) {
     double largest = -1;
@@ -341,16 +341,13 @@ std::size_t Refiner::repair_pinches(double min_spacing) {
       for (int k = 0; k < 4; ++k) r2 += (z->point[k] - v[k]) * (z->point[k] - v[k]);
       if (r2 > largest) largest = r2, best = z->point, hint = c;
     }
-    if (largest >= 0) points.emplace_back(best, hint);
+    if (largest >= 0) {
+      RepairPoint r{best, {hint, {}}};
+      std::copy(std::begin(st.cell(hint).v), std::end(st.cell(hint).v), r.hint.v);
+      points.push_back(r);
+    }
   }
-  std::size_t inserted = 0;
-  for (const auto& [p, hint] : points) {
-    // A point already sampled nearby would make a short edge and change little.
-    if (feature_within(p, min_spacing)) continue;
-    // (A dead hint is ignored.)
-    inserted += insert_and_admit(*workers_[0], p, VertexKind::feature, hint, kR1) == Outcome::done;
-  }
-  return inserted;
+  return insert_repair_points(points, min_spacing);
 }
 
 }  // namespace mesh4d::refine

@@ -18,16 +18,19 @@
 #include <exception>
 #include <thread>
 
+#include "refine/parallel_parts.h"
 #include "refine/refiner.h"
 
 namespace mesh4d::refine {
 
 using delaunay::CellId;
+using delaunay::VertexKind;
 
 namespace {
 
 constexpr unsigned kPriorityAfter = 16;   // consecutive rollbacks before taking the token
 constexpr std::uint64_t kPollEvery = 64;  // operations between worker 0's abort checks
+constexpr std::size_t kRepairShare = 8;   // repair points per thread, at least
 
 using Clock = std::chrono::steady_clock;
 
@@ -259,8 +262,7 @@ void Refiner::work(Worker& w, Shared& shared, ProgressSink* sink) {
   release_priority();
 }
 
-void Refiner::drain_parallel(ProgressSink* sink) {
-  const unsigned threads = params_.threads;
+void Refiner::enter_parallel(unsigned threads) {
   if (!concurrent_ready_) {
     // Vertex ids: the budget, plus the ids of rolled-back insertions and removed vertices.
     tri_.prepare_concurrent(std::max<std::uint64_t>(4 * params_.vertex_budget, 1u << 20));
@@ -272,15 +274,34 @@ void Refiner::drain_parallel(ProgressSink* sink) {
     workers_.push_back(
         std::make_unique<Worker>(tri_, index, params_.seed ^ (0x9E3779B97F4A7C15ull * index)));
   }
+  for (unsigned t = 0; t < threads; ++t) {
+    Worker& w = *workers_[t];
+    w.ws = &w.own_ws;
+    w.guard = &w.locks;
+    w.consecutive_rollbacks = 0;
+  }
+}
+
+void Refiner::leave_parallel(unsigned threads) {
+  for (unsigned t = 0; t < threads; ++t) {
+    Worker& w = *workers_[t];
+    w.locks.release_all();
+    tri_.merge(w.own_ws);
+    w.live_cells.store(0, std::memory_order_relaxed);
+    touched_.insert(touched_.end(), w.touched.begin(), w.touched.end());
+    w.touched.clear();
+    w.guard = nullptr;
+    w.ws = nullptr;
+  }
+  workers_[0]->ws = &tri_.workspace();
+}
+
+void Refiner::drain_parallel(ProgressSink* sink) {
+  const unsigned threads = params_.threads;
   while (true) {
+    enter_parallel(threads);
     if (tri_.stamps_running_low()) tri_.clear_stamps();
     distribute_work(threads);
-    for (unsigned t = 0; t < threads; ++t) {
-      Worker& w = *workers_[t];
-      w.ws = &w.own_ws;
-      w.guard = &w.locks;
-      w.consecutive_rollbacks = 0;
-    }
     Shared shared(threads);
     {
       std::vector<std::jthread> pool;
@@ -288,20 +309,64 @@ void Refiner::drain_parallel(ProgressSink* sink) {
         pool.emplace_back([this, &shared, t] { work(*workers_[t], shared, nullptr); });
       work(*workers_[0], shared, sink);
     }  // joined
-    for (unsigned t = 0; t < threads; ++t) {
-      Worker& w = *workers_[t];
-      tri_.merge(w.own_ws);
-      w.live_cells.store(0, std::memory_order_relaxed);
-      touched_.insert(touched_.end(), w.touched.begin(), w.touched.end());
-      w.touched.clear();
-      w.guard = nullptr;
-      w.ws = nullptr;
-    }
-    workers_[0]->ws = &tri_.workspace();
+    leave_parallel(threads);
     if (shared.error) std::rethrow_exception(shared.error);
     if (shared.finished.load()) return;
     // Stopped because the visit stamps ran low: clear them and go on with what is queued.
   }
+}
+
+std::size_t Refiner::insert_repair_points(const std::vector<RepairPoint>& points,
+                                          double min_spacing) {
+  std::size_t inserted = 0;
+  const auto insert_serially = [&](const RepairPoint& r) {
+    // A point already sampled nearby would make a short edge and change little.
+    if (feature_within(r.point, min_spacing)) return;
+    // (A dead hint is ignored.)
+    inserted += insert_and_admit(*workers_[0], r.point, VertexKind::feature, r.hint.cell, kR1) ==
+                Outcome::done;
+  };
+  // A share of a few points is not worth a thread (the first rounds have hundreds).
+  const unsigned threads =
+      static_cast<unsigned>(std::min<std::size_t>(params_.threads, points.size() / kRepairShare));
+  if (threads <= 1 || tri_.stamps_running_low()) {
+    for (const RepairPoint& r : points) insert_serially(r);
+    return inserted;
+  }
+  // Each thread a contiguous share (the points come in triangle order), under the rules'
+  // locks: the hint pentatope first, as a rule's operation holds its candidate. What meets
+  // another thread's locks, or a hint its own insertions killed, goes in afterwards, serially.
+  std::vector<std::vector<std::size_t>> later(threads);
+  std::vector<std::size_t> done(threads, 0);
+  enter_parallel(threads);
+  try {
+    run_parts(threads, [&](unsigned part) {
+      Worker& w = *workers_[part];
+      const auto [begin, end] = part_range(points.size(), part, threads);
+      for (std::size_t i = begin; i < end; ++i) {
+        const RepairPoint& r = points[i];
+        if (feature_within(r.point, min_spacing)) continue;
+        bool held = true;
+        for (VertexId u : r.hint.v) held = held && w.locks.lock(u);
+        Outcome outcome = Outcome::conflict;
+        // The ball is checked again under the feature index's lock (another thread's point).
+        if (held && still_valid(r.hint))
+          outcome = insert_and_admit(w, r.point, VertexKind::feature, r.hint.cell, kR1, &r.point,
+                                     min_spacing);
+        w.locks.release_all();
+        if (outcome == Outcome::done) ++done[part];
+        if (outcome == Outcome::conflict) later[part].push_back(i);
+      }
+    });
+  } catch (...) {
+    leave_parallel(threads);
+    throw;
+  }
+  leave_parallel(threads);
+  for (std::size_t n : done) inserted += n;
+  for (const auto& part : later)
+    for (std::size_t i : part) insert_serially(points[i]);
+  return inserted;
 }
 
 }  // namespace mesh4d::refine
