@@ -1,11 +1,13 @@
 // parallel_bench: the parallel refiner's scaling on the beating ventricle at the paper's size
 // (100×100×44×15, δ = 5, R3 first), against one thread (the sequential path) measured in the
-// same run. Per thread count, the median of --repeat runs (each a forked child): pentatopes,
-// time, pentatopes/s, speedup, rollbacks, contention and idle thread-seconds, and the share of
-// the time spent in the rules (the parallel part; pinch repair and relabeling between rule
-// phases run on one thread), with the output's quality as a check.
+// same run. Per thread count, the median of --repeat runs (each a forked child, one seed per
+// repeat, the thread counts interleaved): pentatopes, time, pentatopes/s, speedup (of the
+// median times) and paired speedup (over seeds, the median of a seed's time in the first row
+// over its time in this one), rollbacks, contention and idle thread-seconds, and the time spent
+// in the rules (the parallel phases; the pinch counts and the repair's insertions also use the
+// threads, the relabeling and extraction run on one), with the output's quality as a check.
 //
-//   parallel_bench [--threads 1,2,4,8] [--repeat 3] [--delta 5]
+//   parallel_bench [--threads 1,2,4,8] [--repeat 3] [--delta 5] [--seed 1]
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -65,19 +67,27 @@ int main(int argc, char** argv) {
   std::printf(
       "Parallel refinement, beating ventricle 100x100x44x15, δ = %g, R3 first; median of %d runs "
       "(seeds %llu..%llu); "
-      "speedup against 1 thread in this run\n",
+      "thread counts interleaved per seed; speedup against the first row in this run\n",
       delta, repeat, static_cast<unsigned long long>(seed),
       static_cast<unsigned long long>(seed + static_cast<std::uint64_t>(repeat) - 1));
   std::printf(
-      "| threads | pentatopes | time s | pentatopes/s | speedup | rules s | rollbacks | "
-      "contention s | idle s | insertions R1 / R2 / R3 / R4 / R5 | R5 removals | max ρ | min τ | "
-      "valid |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
-  double reference = 0;
-  for (unsigned t : threads) {
-    std::vector<double> seconds, rules, contention, idle, pentatopes, rollbacks, rho, tau, removals;
+      "| threads | pentatopes | time s | pentatopes/s | speedup | paired speedup | rules s | "
+      "rollbacks | contention s | idle s | insertions R1 / R2 / R3 / R4 / R5 | R5 removals | max ρ "
+      "| min τ | valid |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  // Interleaved: for each seed, every thread count in turn, so that a slower spell of a shared
+  // machine (minutes long, ±15 %) weighs on every row alike rather than on the rows run in it.
+  struct Series {
+    std::vector<double> seconds, rules, contention, idle, pentatopes, rollbacks, rho, tau, removals,
+        speedup;
     std::array<std::vector<double>, 5> insertions;
     bool valid = true;
-    for (int k = 0; k < repeat; ++k) {
+  };
+  std::vector<Series> series(threads.size());
+  for (int k = 0; k < repeat; ++k) {
+    double sequential = 0;  // this seed's time with the first thread count
+    for (std::size_t i = 0; i < threads.size(); ++i) {
+      const unsigned t = threads[i];
+      Series& s = series[i];
       const auto run = bench::run_in_child<Run>([&] {
         refine::RefineParams params;
         params.delta = delta;
@@ -101,36 +111,42 @@ int main(int argc, char** argv) {
                    delaunay::check_triangulation(refiner.triangulation()).ok};
       });
       if (!run) {
-        valid = false;
+        s.valid = false;
         continue;
       }
-      seconds.push_back(run->seconds);
-      rules.push_back(run->rules_seconds);
-      contention.push_back(run->contention);
-      idle.push_back(run->idle);
-      pentatopes.push_back(double(run->pentatopes));
-      rollbacks.push_back(double(run->rollbacks));
-      for (int r = 0; r < 5; ++r) insertions[r].push_back(double(run->insertions[r]));
-      removals.push_back(double(run->removals));
-      rho.push_back(run->rho_max);
-      tau.push_back(run->tau_min);
-      valid &= run->valid;
+      if (i == 0) sequential = run->seconds;
+      if (sequential > 0) s.speedup.push_back(sequential / run->seconds);
+      s.seconds.push_back(run->seconds);
+      s.rules.push_back(run->rules_seconds);
+      s.contention.push_back(run->contention);
+      s.idle.push_back(run->idle);
+      s.pentatopes.push_back(double(run->pentatopes));
+      s.rollbacks.push_back(double(run->rollbacks));
+      for (int r = 0; r < 5; ++r) s.insertions[r].push_back(double(run->insertions[r]));
+      s.removals.push_back(double(run->removals));
+      s.rho.push_back(run->rho_max);
+      s.tau.push_back(run->tau_min);
+      s.valid &= run->valid;
     }
-    if (seconds.empty()) {
+  }
+  double reference = 0;
+  for (std::size_t i = 0; i < threads.size(); ++i) {
+    const unsigned t = threads[i];
+    const Series& s = series[i];
+    if (s.seconds.empty()) {
       std::printf("| %u | run failed |\n", t);
       continue;
     }
-    const double time = median(seconds);
+    const double time = median(s.seconds);
     if (reference == 0) reference = time;
     std::printf(
-        "| %u | %.0f | %.2f | %.0f | %.2f | %.2f | %.0f | %.2f | %.2f | %.0f / %.0f / %.0f / %.0f "
-        "/ "
-        "%.0f | %.0f | %.2f | %.4f | %s |\n",
-        t, median(pentatopes), time, median(pentatopes) / time, reference / time, median(rules),
-        median(rollbacks), median(contention), median(idle), median(insertions[0]),
-        median(insertions[1]), median(insertions[2]), median(insertions[3]), median(insertions[4]),
-        median(removals), *std::max_element(rho.begin(), rho.end()),
-        *std::min_element(tau.begin(), tau.end()), valid ? "yes" : "NO");
-    std::fflush(stdout);
+        "| %u | %.0f | %.2f | %.0f | %.2f | %.2f | %.2f | %.0f | %.2f | %.2f | %.0f / %.0f / %.0f "
+        "/ %.0f / %.0f | %.0f | %.2f | %.4f | %s |\n",
+        t, median(s.pentatopes), time, median(s.pentatopes) / time, reference / time,
+        s.speedup.empty() ? 0.0 : median(s.speedup), median(s.rules), median(s.rollbacks),
+        median(s.contention), median(s.idle), median(s.insertions[0]), median(s.insertions[1]),
+        median(s.insertions[2]), median(s.insertions[3]), median(s.insertions[4]),
+        median(s.removals), *std::max_element(s.rho.begin(), s.rho.end()),
+        *std::min_element(s.tau.begin(), s.tau.end()), s.valid ? "yes" : "NO");
   }
 }

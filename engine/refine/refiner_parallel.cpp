@@ -11,6 +11,8 @@
 // Progress: a worker that rolled back kPriorityAfter times in a row takes the contention
 // manager's token; the others finish (or roll back) their current operation and wait until it
 // commits one, so some thread always commits: no livelock, even with more threads than cores.
+// Rule priority across workers: R5 work waits while another worker runs an R1–R4 operation
+// (and is traded for others' queued R1–R4 work), as R5 comes last in the sequential order.
 // Balance: a worker without work steals the older half of another's queues; the phase ends
 // when every worker is idle at once (a count that a thief leaves before it looks, so that a
 // stolen candidate is never in flight while the count is full).
@@ -55,7 +57,8 @@ struct Refiner::Shared {
   std::atomic<bool> stop{false};      // cancelled, failed, or out of stamps: leave at once
   std::atomic<bool> finished{false};  // every worker idle: no work is left anywhere
   std::atomic<unsigned> idle{0};
-  std::atomic<int> priority{-1};  // the worker the contention manager lets run alone, or -1
+  std::atomic<int> priority{-1};         // the worker the contention manager lets run alone, or -1
+  std::atomic<int> higher_in_flight{0};  // operations of rules other than R5 under way
   std::mutex error_mutex;
   std::exception_ptr error;
 
@@ -233,9 +236,28 @@ void Refiner::work(Worker& w, Shared& shared, ProgressSink* sink) {
         shared.stop.store(true, std::memory_order_release);
         break;
       }
+      // R5 removes free vertices near its point: beside another worker's R3 insertion it undoes
+      // work that is then redone (more pentatopes, more rollbacks). It waits, queued, instead.
+      if (rule == kR5 && shared.higher_in_flight.load(std::memory_order_acquire) > 0) {
+        {
+          std::lock_guard lock(w.queue_mutex);
+          w.queues[rule].push_back(k);
+          queued_[rule].fetch_add(1, std::memory_order_relaxed);
+        }
+        const auto t0 = Clock::now();
+        unsigned spins = 0;
+        while (shared.running() && shared.higher_in_flight.load(std::memory_order_acquire) > 0) {
+          if (w.index == 0) tick();
+          back_off(spins);
+        }
+        w.contention_ns.fetch_add(nanoseconds_since(t0), std::memory_order_relaxed);
+        continue;
+      }
+      if (rule != kR5) shared.higher_in_flight.fetch_add(1, std::memory_order_acq_rel);
       if (w.index == 0 && ++w.operations % kPollEvery == 0) tick();
       const auto t0 = Clock::now();
       const Outcome outcome = process(w, k);
+      if (rule != kR5) shared.higher_in_flight.fetch_sub(1, std::memory_order_acq_rel);
       w.locks.release_all();
       w.live_cells.store(w.cells.live, std::memory_order_relaxed);
       if (outcome == Outcome::conflict) {
