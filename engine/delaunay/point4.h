@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 namespace mesh4d {
@@ -12,5 +13,12 @@ using Point4 = std::array<double, 4>;
 /// Index of a vertex in a triangulation. Ids also order vertices by age (smaller is older),
 /// which the symbolic tie-break of the in-sphere predicate relies on.
 using VertexId = std::uint32_t;
+
+/// Euclidean distance (the refiner, the oracle and the checks all measure with this one).
+inline double distance(const Point4& a, const Point4& b) {
+  double d = 0;
+  for (int i = 0; i < 4; ++i) d += (a[i] - b[i]) * (a[i] - b[i]);
+  return std::sqrt(d);
+}
 
 }  // namespace mesh4d

@@ -10,11 +10,6 @@ double dot(const Vec4& a, const Vec4& b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
 }
 
-double distance(const Point4& a, const Point4& b) {
-  const Vec4 d{a[0] - b[0], a[1] - b[1], a[2] - b[2], a[3] - b[3]};
-  return std::sqrt(dot(d, d));
-}
-
 }  // namespace
 
 std::optional<Point4> project_to_junction(const SurfaceOracle& oracle, const Point4& seed, Label a,

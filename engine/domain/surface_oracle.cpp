@@ -17,10 +17,6 @@ Point4 lerp(const Point4& a, const Point4& b, double s) {
           a[3] + s * (b[3] - a[3])};
 }
 
-double distance(const Point4& a, const Point4& b) {
-  return norm({a[0] - b[0], a[1] - b[1], a[2] - b[2], a[3] - b[3]});
-}
-
 }  // namespace
 
 SurfaceOracle::SurfaceOracle(const LabelImage4& image)

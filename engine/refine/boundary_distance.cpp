@@ -4,15 +4,6 @@
 #include <cmath>
 
 namespace mesh4d::refine {
-namespace {
-
-double distance(const Point4& a, const Point4& b) {
-  double d = 0;
-  for (int k = 0; k < 4; ++k) d += (a[k] - b[k]) * (a[k] - b[k]);
-  return std::sqrt(d);
-}
-
-}  // namespace
 
 BoundaryDistance measure_boundary_distance(const mesh::Mesh4& mesh,
                                            const domain::SurfaceOracle& oracle,

@@ -23,12 +23,6 @@ constexpr int kUnpinchRounds = 4;  // of free-vertex removal where relabeling is
 // known: the newest of all, as the point would be in a sequential run.
 constexpr VertexId kProvisionalId = delaunay::kNoVertex - 1;
 
-double distance(const Point4& a, const Point4& b) {
-  double d = 0;
-  for (int i = 0; i < 4; ++i) d += (a[i] - b[i]) * (a[i] - b[i]);
-  return std::sqrt(d);
-}
-
 }  // namespace
 
 Refiner::Refiner(const domain::SurfaceOracle& oracle, const RefineParams& params)
