@@ -24,6 +24,8 @@
 
 namespace mesh4d::delaunay {
 
+struct FillCell;
+
 /// The pentatopes whose circumsphere contains a point, and the facets that bound them.
 struct Cavity {
   struct Facet {
@@ -154,6 +156,10 @@ class Triangulation {
   void insert_vertex_into_mesh(VertexId v, CellId hint, CellId* last);
   // The star of v; false when the guard (if any) refused one of its pentatopes.
   bool collect_star(VertexId v, std::vector<CellId>& star, CellGuard* guard) const;
+  // remove()'s fill when gift-wrapping cannot prove its own: the pentatopes of the Delaunay
+  // triangulation of v's link that conflict with v (neighbors not set).
+  void fill_from_link_triangulation(VertexId v, const std::vector<VertexId>& link,
+                                    std::vector<FillCell>& fill) const;
   std::uint32_t next_stamp();
 
   static constexpr std::uint32_t kStampLimit = 0xFFFFFFF0u;

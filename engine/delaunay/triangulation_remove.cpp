@@ -3,33 +3,20 @@
 //
 // Why that is right: the star of v in DT(P) is also the star of v in DT(link ∪ {v}); inserting v
 // into DT(link) replaces exactly its conflict region by that star, so the conflict region fills
-// the hole, and its pentatopes are Delaunay in P \ {v}. The local triangulation uses the same
-// perturbation (vertices inserted oldest first keep the global age order), so the glued result
-// is the unique perturbed Delaunay triangulation of the remaining vertices.
+// the hole, and its pentatopes are Delaunay in P \ {v}. The fill is gift-wrapped and proven
+// Delaunay (hole_filling.h); when the proof fails, it is read from the link's own triangulation,
+// built with the same perturbation (vertices inserted oldest first keep the global age order).
+// Either way the glued result is the unique perturbed Delaunay triangulation of the remaining
+// vertices.
 #include <algorithm>
 #include <array>
-#include <map>
 #include <stdexcept>
-#include <unordered_map>
 
+#include "delaunay/hole_filling.h"
 #include "delaunay/predicates.h"
 #include "delaunay/triangulation.h"
 
 namespace mesh4d::delaunay {
-namespace {
-
-using FacetKey = std::array<VertexId, 4>;
-
-FacetKey facet_key(const Pentatope& cell, int opposite) {
-  FacetKey key;
-  for (int i = 0, k = 0; i < 5; ++i)
-    if (i != opposite) key[k++] = cell.v[i];
-  std::sort(key.begin(), key.end());
-  return key;
-}
-
-}  // namespace
-
 bool Triangulation::collect_star(VertexId v, std::vector<CellId>& star, CellGuard* guard) const {
   star.clear();
   star.push_back(store_.vertex(v).cell);
@@ -68,6 +55,35 @@ bool Triangulation::collect_star(VertexId v, std::vector<CellId>& star, CellGuar
   return true;
 }
 
+void Triangulation::fill_from_link_triangulation(VertexId v, const std::vector<VertexId>& link,
+                                                 std::vector<FillCell>& fill) const {
+  // The local Delaunay triangulation of the link, oldest vertex first: local id k+1 is link[k].
+  // One per thread, reused: building a fresh one (its blocks, its tables) for every removal
+  // cost more than the few dozen insertions into it.
+  thread_local Triangulation local(8);
+  local.reset();
+  CellId hint = kNoCell;
+  for (VertexId u : link) {
+    const InsertResult r = local.insert(store_.point(u), VertexKind::free, hint);
+    if (r.cell != kNoCell) hint = r.cell;
+  }
+  // Its pentatopes in conflict with v (under the global ids) fill the hole. v lies strictly
+  // inside the hull of its link, so no infinite local pentatope can conflict with it.
+  const Point4 p = store_.point(v);
+  const PentatopeStore& ls = local.store();
+  fill.clear();
+  for (CellId c = 0; c < ls.cell_slots(); ++c) {
+    if (!ls.is_live(c) || ls.is_infinite(c)) continue;
+    FillCell f;
+    const Point4* s[5];
+    for (int i = 0; i < 5; ++i) {
+      f.v[i] = link[ls.cell(c).v[i] - 1];
+      s[i] = &store_.point(f.v[i]);
+    }
+    if (insphere4_sos(s, f.v, p, v) > 0) fill.push_back(f);
+  }
+}
+
 bool Triangulation::remove(VertexId v, std::vector<CellId>* created) {
   return remove(v, created, own_, nullptr) == RemoveResult::removed;
 }
@@ -92,73 +108,40 @@ Triangulation::RemoveResult Triangulation::remove(VertexId v, std::vector<CellId
   std::sort(link.begin(), link.end());
   link.erase(std::unique(link.begin(), link.end()), link.end());
 
-  // The local Delaunay triangulation of the link, oldest vertex first: local id k+1 is link[k].
-  // One per thread, reused: building a fresh one (its blocks, its tables) for every removal
-  // cost more than the few dozen insertions into it.
-  thread_local Triangulation local(8);
-  local.reset();
-  CellId hint = kNoCell;
-  for (VertexId u : link) {
-    const InsertResult r = local.insert(store_.point(u), VertexKind::free, hint);
-    if (r.cell != kNoCell) hint = r.cell;
-  }
-  auto global_id = [&](VertexId local_id) {
-    return local_id == kInfiniteVertex ? kInfiniteVertex : link[local_id - 1];
-  };
-
-  // Local pentatopes in conflict with v (under the global ids) fill the hole. v lies strictly
-  // inside the hull of its link, so no infinite local pentatope can conflict with it.
-  const Point4 p = store_.point(v);
-  std::unordered_map<CellId, CellId> to_global;  // local pentatope -> new global pentatope
-  std::vector<CellId> fill;
-  const PentatopeStore& ls = local.store();
-  for (CellId c = 0; c < ls.cell_slots(); ++c) {
-    if (!ls.is_live(c) || ls.is_infinite(c)) continue;
-    const Pentatope& cell = ls.cell(c);
-    const Point4* s[5];
-    VertexId ids[5];
-    for (int i = 0; i < 5; ++i) {
-      ids[i] = global_id(cell.v[i]);
-      s[i] = &store_.point(ids[i]);
-    }
-    if (insphere4_sos(s, ids, p, v) > 0) fill.push_back(c);
-  }
-
-  // The hole's boundary: facets of the star opposite v, with the pentatope outside each.
-  std::map<FacetKey, std::pair<CellId, int>> boundary;
+  // The hole's boundary: the facets of the star opposite v, with the pentatope beyond each.
+  thread_local std::vector<HoleFacet> hole;
+  thread_local std::vector<FillCell> fill;
+  hole.clear();
   for (CellId c : star) {
     const int iv = store_.index_of(c, v);
     const CellId outside = store_.cell(c).n[iv];
-    boundary[facet_key(store_.cell(c), iv)] = {outside, store_.neighbor_index(outside, c)};
+    hole.push_back({c, iv, outside, store_.neighbor_index(outside, c)});
+  }
+  ++hole_counters().holes;
+  if (!hole_counters().wrap || !wrap_hole(store_, hole, link, fill)) {
+    ++hole_counters().fallbacks;
+    fill_from_link_triangulation(v, link, fill);
+    if (!link_fill(store_, hole, fill))
+      throw std::logic_error("Triangulation::remove: link triangulation does not fit the hole");
   }
 
   // Create the new pentatopes, then link them to each other and to the hole's boundary.
-  for (CellId c : fill) {
-    VertexId ids[5];
-    for (int i = 0; i < 5; ++i) ids[i] = global_id(ls.cell(c).v[i]);
-    to_global[c] = store_.create_cell(ids, *ws.cells);
-  }
-  std::size_t glued = 0;
-  for (CellId c : fill) {
-    const CellId g = to_global[c];
+  thread_local std::vector<CellId> made;
+  made.clear();
+  for (const FillCell& f : fill) made.push_back(store_.create_cell(f.v, *ws.cells));
+  for (std::size_t x = 0; x < fill.size(); ++x) {
+    Pentatope& cell = store_.cell(made[x]);
     for (int i = 0; i < 5; ++i) {
-      const auto inner = to_global.find(ls.cell(c).n[i]);
-      if (inner != to_global.end()) {
-        store_.cell(g).n[i] = inner->second;
+      if (fill[x].n[i] >= 0) {
+        cell.n[i] = made[fill[x].n[i]];
         continue;
       }
-      const auto outer = boundary.find(facet_key(store_.cell(g), i));
-      if (outer == boundary.end())
-        throw std::logic_error("Triangulation::remove: link triangulation does not fit the hole");
-      store_.cell(g).n[i] = outer->second.first;
-      store_.cell(outer->second.first).n[outer->second.second] = g;
-      ++glued;
+      const HoleFacet& h = hole[~fill[x].n[i]];
+      cell.n[i] = h.outside;
+      store_.cell(h.outside).n[h.outside_slot] = made[x];
     }
   }
-  if (glued != boundary.size())
-    throw std::logic_error("Triangulation::remove: hole boundary not closed");
-
-  for (const auto& [local_cell, g] : to_global) {
+  for (CellId g : made) {
     for (VertexId u : store_.cell(g).v) store_.vertex(u).cell = g;
     if (created) created->push_back(g);
   }
@@ -166,7 +149,7 @@ Triangulation::RemoveResult Triangulation::remove(VertexId v, std::vector<CellId
   store_.vertex(v).cell = kNoCell;
   store_.vertex(v).kind = VertexKind::removed;
   vertex_count_.fetch_sub(1, std::memory_order_relaxed);
-  any_cell_.store(to_global.begin()->second, std::memory_order_relaxed);
+  any_cell_.store(made.front(), std::memory_order_relaxed);
   return RemoveResult::removed;
 }
 

@@ -1,11 +1,14 @@
 // Removal: long random insert/remove sequences with the checker after every operation, removal on
-// degenerate lattices, and the refusals (hull, infinite, removed vertices).
+// degenerate lattices, both ways of filling a hole compared with each other and with the
+// remaining points triangulated afresh, and the refusals (hull, infinite, removed vertices).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
+#include <set>
 
 #include "delaunay/checker.h"
+#include "delaunay/hole_filling.h"
 #include "delaunay/triangulation.h"
 #include "point_sets.h"
 
@@ -37,7 +40,33 @@ void insert_box(Triangulation& t) {
              VertexKind::box);
 }
 
+// The finite pentatopes as sets of points (vertex ids differ between triangulations).
+std::set<std::vector<Point4>> cells_by_points(const Triangulation& t) {
+  const auto& st = t.store();
+  std::set<std::vector<Point4>> cells;
+  for (CellId c = 0; c < st.cell_slots(); ++c) {
+    if (!st.is_live(c) || st.is_infinite(c)) continue;
+    std::vector<Point4> p;
+    for (VertexId v : st.cell(c).v) p.push_back(st.point(v));
+    std::sort(p.begin(), p.end());
+    cells.insert(p);
+  }
+  return cells;
+}
+
+// The pentatopes of t's remaining vertices triangulated afresh, oldest first: the same
+// perturbation order, so the same (unique) perturbed Delaunay triangulation.
+std::set<std::vector<Point4>> rebuilt(const Triangulation& t) {
+  Triangulation fresh;
+  const auto& st = t.store();
+  for (VertexId v = 1; v < st.vertex_slots(); ++v)
+    if (st.vertex(v).kind != VertexKind::removed && st.vertex(v).cell != kNoCell)
+      fresh.insert(st.point(v), st.vertex(v).kind);
+  return cells_by_points(fresh);
+}
+
 TEST(TriangulationRemove, RandomInsertRemoveSequenceValidAfterEveryOperation) {
+  const HoleCounters at_start = hole_counters();
   for (std::uint64_t seed : {3, 4}) {
     std::mt19937_64 rng(seed);
     Triangulation t;
@@ -60,20 +89,58 @@ TEST(TriangulationRemove, RandomInsertRemoveSequenceValidAfterEveryOperation) {
       const CheckResult check = check_triangulation(t);
       ASSERT_TRUE(check.ok) << "seed " << seed << " op " << op << ": " << check.error;
     }
+    EXPECT_EQ(cells_by_points(t), rebuilt(t)) << "seed " << seed;
   }
+  // Random points are in general position: every hole is gift-wrapped and proven so.
+  const std::uint64_t holes = hole_counters().holes - at_start.holes;
+  EXPECT_GT(holes, 150u);
+  EXPECT_EQ(hole_counters().fallbacks - at_start.fallbacks, 0u) << "of " << holes << " holes";
 }
 
 TEST(TriangulationRemove, LatticeRemovalsStayValid) {
-  // Removing from a lattice leaves co-spherical link vertices: the tie-break must glue the hole.
-  Triangulation t;
-  t.insert_all(lattice(4));
-  std::mt19937_64 rng(8);
-  for (int k = 0; k < 12; ++k) {
-    const auto candidates = interior_vertices(t);
-    if (candidates.empty()) break;
-    ASSERT_TRUE(t.remove(candidates[rng() % candidates.size()]));
-    const CheckResult check = check_triangulation(t);
-    ASSERT_TRUE(check.ok) << "removal " << k << ": " << check.error;
+  // Removing from a lattice leaves co-spherical link vertices: the tie-break must glue the hole,
+  // and give the triangulation that building the remaining points afresh gives.
+  for (int k : {4, 5}) {
+    Triangulation t;
+    for (const Point4& p : lattice(k)) t.insert(p);  // in order: rebuilt() repeats it
+    std::mt19937_64 rng(8);
+    const HoleCounters before = hole_counters();
+    for (int r = 0; r < 12; ++r) {
+      const auto candidates = interior_vertices(t);
+      if (candidates.empty()) break;
+      ASSERT_TRUE(t.remove(candidates[rng() % candidates.size()]));
+      const CheckResult check = check_triangulation(t);
+      ASSERT_TRUE(check.ok) << "lattice " << k << " removal " << r << ": " << check.error;
+    }
+    EXPECT_EQ(cells_by_points(t), rebuilt(t)) << "lattice " << k;
+    std::printf("lattice %d: %llu holes, %llu left to the link triangulation\n", k,
+                static_cast<unsigned long long>(hole_counters().holes - before.holes),
+                static_cast<unsigned long long>(hole_counters().fallbacks - before.fallbacks));
+  }
+}
+
+TEST(TriangulationRemove, LinkTriangulationFillsTheSameHoles) {
+  // The fallback of the gift-wrapping: with wrapping off, the same removals give the same
+  // triangulation, on random points and on a lattice.
+  for (bool on_lattice : {false, true}) {
+    std::set<std::vector<Point4>> result[2];
+    for (bool wrap : {true, false}) {
+      hole_counters().wrap = wrap;
+      const HoleCounters before = hole_counters();
+      Triangulation t;
+      for (const Point4& p : on_lattice ? lattice(5) : random_points(300, 21)) t.insert(p);
+      std::mt19937_64 rng(5);
+      for (int r = 0; r < 20; ++r) {
+        const auto candidates = interior_vertices(t);
+        ASSERT_FALSE(candidates.empty());
+        ASSERT_TRUE(t.remove(candidates[rng() % candidates.size()]));
+      }
+      ASSERT_TRUE(check_triangulation(t).ok);
+      EXPECT_EQ(hole_counters().fallbacks - before.fallbacks, wrap ? 0u : 20u);
+      result[wrap] = cells_by_points(t);
+    }
+    hole_counters().wrap = true;
+    EXPECT_EQ(result[0], result[1]) << (on_lattice ? "lattice" : "random points");
   }
 }
 

@@ -1,0 +1,332 @@
+#include "delaunay/hole_filling.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "delaunay/predicates.h"
+
+namespace mesh4d::delaunay {
+namespace {
+
+using FacetKey = std::array<VertexId, 4>;
+
+FacetKey facet_key(const VertexId v[5], int opposite) {
+  FacetKey key;
+  for (int i = 0, k = 0; i < 5; ++i)
+    if (i != opposite) key[k++] = v[i];
+  std::sort(key.begin(), key.end());
+  return key;
+}
+
+// Facets by their sorted vertex ids, each with the one pentatope seen on it so far (a fill index,
+// or ~hole facet) until a second one closes it. Open addressing; a hole has a few hundred facets.
+class FacetTable {
+ public:
+  struct Entry {
+    FacetKey key;
+    std::int32_t owner;  // fill index, or ~hole facet index
+    std::int8_t slot;    // the facet's index in the owner (fill pentatopes only)
+    bool open;
+  };
+
+  void reset(std::size_t facets) {
+    std::size_t size = 64;
+    while (size < 4 * facets) size *= 2;
+    entries_.assign(size, Entry{{kNoVertex, 0, 0, 0}, 0, 0, false});
+    mask_ = size - 1;
+    count_ = 0;
+  }
+  // The entry of `key`; `added` tells whether it was just made (its key set, the rest to fill).
+  Entry* find_or_add(const FacetKey& key, bool* added) {
+    if (2 * (count_ + 1) > entries_.size()) grow();
+    std::size_t h = (key[0] * 0x9E3779B1u) ^ (key[1] * 0x85EBCA77u) ^ (key[2] * 0xC2B2AE3Du) ^
+                    (key[3] * 0x27D4EB2Fu);
+    for (std::size_t i = (h ^ (h >> 15)) & mask_;; i = (i + 1) & mask_) {
+      Entry& e = entries_[i];
+      if (e.key == key) return *added = false, &e;
+      if (e.key[0] == kNoVertex) {
+        e.key = key;
+        ++count_;
+        return *added = true, &e;
+      }
+    }
+  }
+  bool any_open() const {
+    for (const Entry& e : entries_)
+      if (e.key[0] != kNoVertex && e.open) return true;
+    return false;
+  }
+
+ private:
+  void grow() {
+    std::vector<Entry> old;
+    old.swap(entries_);
+    reset(old.size());
+    bool added;
+    for (const Entry& e : old)
+      if (e.key[0] != kNoVertex) *find_or_add(e.key, &added) = e;
+  }
+  std::vector<Entry> entries_;
+  std::size_t mask_ = 0, count_ = 0;
+};
+
+// Joins fill pentatope x (facet j) to whatever is recorded on that facet; false when the facet
+// is already closed (a third pentatope on it).
+bool join(FacetTable::Entry& e, std::vector<FillCell>& fill, std::int32_t x, int j) {
+  if (!e.open) return false;
+  fill[x].n[j] = e.owner;
+  if (e.owner >= 0) fill[e.owner].n[e.slot] = x;
+  e.open = false;
+  return true;
+}
+
+// The facet opposite `slot` of a positively oriented vertex array `a` and the link vertices
+// that could complete it on the side where a[slot] would be: the pencil of spheres through the
+// facet, ranked in floating point by how far their center lies towards that side.
+class ApexSearch {
+ public:
+  ApexSearch(const PentatopeStore& store, const VertexId a[5], int slot) {
+    for (int i = 0, k = 0; i < 5; ++i)
+      if (i != slot) f_[k++] = &store.point(a[i]);
+    // orient4(a with u at slot) = ±det[f1-f0; f2-f0; f3-f0; u-f0] (moving the slot last is a
+    // cyclic shift over 4 - slot places) = normal_ · (u - f0).
+    double e[3][4];
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 4; ++k) e[r][k] = (*f_[r + 1])[k] - (*f_[0])[k];
+    const double sign = (4 - slot) % 2 == 0 ? 1 : -1;
+    for (int k = 0; k < 4; ++k) {
+      int c[3], m = 0;
+      for (int j = 0; j < 4; ++j)
+        if (j != k) c[m++] = j;
+      const double minor = e[0][c[0]] * (e[1][c[1]] * e[2][c[2]] - e[1][c[2]] * e[2][c[1]]) -
+                           e[0][c[1]] * (e[1][c[0]] * e[2][c[2]] - e[1][c[2]] * e[2][c[0]]) +
+                           e[0][c[2]] * (e[1][c[0]] * e[2][c[1]] - e[1][c[1]] * e[2][c[0]]);
+      normal_[k] = sign * ((3 + k) % 2 == 0 ? minor : -minor);
+    }
+    // The facet's circumcenter in its own hyperplane: f0 + Σ x_r e_r with Gram · x = |e_r|²/2.
+    double g[3][3], b[3];
+    for (int r = 0; r < 3; ++r) {
+      for (int s = 0; s < 3; ++s) g[r][s] = dot(e[r], e[s]);
+      b[r] = 0.5 * g[r][r];
+    }
+    const double det = det3(g[0], g[1], g[2]);
+    double x[3];
+    for (int r = 0; r < 3; ++r) {
+      double m[3][3];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) m[i][j] = j == r ? b[i] : g[i][j];
+      x[r] = det3(m[0], m[1], m[2]) / det;
+    }
+    for (int k = 0; k < 4; ++k)
+      center_[k] = (*f_[0])[k] + x[0] * e[0][k] + x[1] * e[1][k] + x[2] * e[2][k];
+    radius2_ = distance2(center_, *f_[0]);
+    scale_ = std::sqrt(std::max({dot(e[0], e[0]), dot(e[1], e[1]), dot(e[2], e[2])}));
+    normal_norm_ = std::sqrt(dot(normal_, normal_));
+    ok_ = std::isfinite(radius2_) && normal_norm_ > 0;
+  }
+
+  bool ok() const { return ok_; }
+  // The distance of u from the facet's hyperplane, positive on the open side (orient4's sign
+  // where it is not too small to trust).
+  double height(const Point4& u) const {
+    double h = 0;
+    for (int k = 0; k < 4; ++k) h += normal_[k] * (u[k] - (*f_[0])[k]);
+    return h / normal_norm_;
+  }
+  // Heights below this may have the wrong sign.
+  double uncertain_height() const { return 1e-9 * scale_; }
+  // Ranks the spheres through the facet and u (u on the open side, at height h): twice how far
+  // the center lies towards that side. The sphere of smallest rank holds no other point there.
+  double rank(const Point4& u, double h) const { return (distance2(u, center_) - radius2_) / h; }
+  // Ranks closer than this to each other are compared exactly.
+  double rank_margin(double rank) const { return 1e-7 * (std::abs(rank) + scale_); }
+
+ private:
+  static double dot(const double a[4], const double b[4]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
+  }
+  static double det3(const double a[3], const double b[3], const double c[3]) {
+    return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+           a[2] * (b[0] * c[1] - b[1] * c[0]);
+  }
+  static double distance2(const Point4& a, const Point4& b) {
+    double s = 0;
+    for (int k = 0; k < 4; ++k) s += (a[k] - b[k]) * (a[k] - b[k]);
+    return s;
+  }
+  const Point4* f_[4];
+  double normal_[4];
+  Point4 center_;
+  double radius2_ = 0, scale_ = 0, normal_norm_ = 0;
+  bool ok_ = false;
+};
+
+// The link vertex that completes the facet opposite `slot` of `a` into a Delaunay pentatope on
+// that side; kNoVertex when none is found.
+VertexId find_apex(const PentatopeStore& store, VertexId a[5], int slot,
+                   const std::vector<VertexId>& link, std::vector<VertexId>& close) {
+  const ApexSearch search(store, a, slot);
+  if (!search.ok()) return kNoVertex;
+  const double uncertain = search.uncertain_height();
+  thread_local std::vector<std::pair<VertexId, double>> ranked;
+  ranked.clear();
+  close.clear();
+  VertexId best = kNoVertex;
+  double best_rank = INFINITY;
+  for (VertexId u : link) {
+    if (u == a[0] || u == a[1] || u == a[2] || u == a[3] || u == a[4]) continue;
+    const Point4& p = store.point(u);
+    const double h = search.height(p);
+    if (h <= uncertain) {
+      if (h > -uncertain) close.push_back(u);  // its side is decided exactly below
+      continue;
+    }
+    const double r = search.rank(p, h);
+    ranked.emplace_back(u, r);
+    if (r < best_rank) best_rank = r, best = u;
+  }
+  // Candidates ranked within rounding of the best are compared exactly (with the tie-break).
+  const double margin = search.rank_margin(best_rank);
+  for (const auto& [u, r] : ranked)
+    if (u != best && r <= best_rank + margin) close.push_back(u);
+  const VertexId keep = a[slot];
+  for (VertexId u : close) {
+    a[slot] = u;
+    const Point4* s[5];
+    for (int i = 0; i < 5; ++i) s[i] = &store.point(a[i]);
+    if (orient4(*s[0], *s[1], *s[2], *s[3], *s[4]) <= 0) continue;
+    if (best == kNoVertex) {
+      best = u;
+      continue;
+    }
+    a[slot] = best;
+    const Point4* t[5];
+    for (int i = 0; i < 5; ++i) t[i] = &store.point(a[i]);
+    if (insphere4_sos(t, a, store.point(u), u) > 0) best = u;
+  }
+  a[slot] = keep;
+  return best;
+}
+
+// The proof that `fill` is the Delaunay filling: positive orientations, and across every facet
+// the pentatope beyond keeps its far vertex outside the sphere of the one on this side.
+bool locally_delaunay(const PentatopeStore& store, const std::vector<HoleFacet>& hole,
+                      const std::vector<FillCell>& fill) {
+  for (std::size_t x = 0; x < fill.size(); ++x) {
+    const FillCell& c = fill[x];
+    const Point4* s[5];
+    for (int i = 0; i < 5; ++i) s[i] = &store.point(c.v[i]);
+    if (orient4(*s[0], *s[1], *s[2], *s[3], *s[4]) <= 0) return false;
+    for (int i = 0; i < 5; ++i) {
+      VertexId far = kNoVertex;
+      if (c.n[i] >= 0) {
+        if (static_cast<std::size_t>(c.n[i]) < x) continue;  // checked from the other side
+        const FillCell& d = fill[c.n[i]];
+        for (VertexId u : d.v)
+          if (std::find(c.v, c.v + 5, u) == c.v + 5) far = u;
+      } else {
+        const HoleFacet& h = hole[~c.n[i]];
+        if (store.is_infinite(h.outside)) continue;
+        far = store.cell(h.outside).v[h.outside_slot];
+      }
+      if (far == kNoVertex || insphere4_sos(s, c.v, store.point(far), far) >= 0) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+HoleCounters& hole_counters() {
+  thread_local HoleCounters counters;
+  return counters;
+}
+
+bool wrap_hole(const PentatopeStore& store, const std::vector<HoleFacet>& hole,
+               const std::vector<VertexId>& link, std::vector<FillCell>& fill) {
+  // Work: facets with one pentatope, as the vertex array of the pentatope that would have
+  // the apex at `slot` on the open side, positively oriented.
+  struct Open {
+    VertexId a[5];
+    int slot;
+  };
+  thread_local FacetTable table;
+  thread_local std::vector<Open> work;
+  thread_local std::vector<VertexId> close;
+  fill.clear();
+  work.clear();
+  table.reset(3 * hole.size());
+  bool added;
+  for (std::size_t b = 0; b < hole.size(); ++b) {
+    Open o;
+    const Pentatope& c = store.cell(hole[b].star_cell);
+    std::copy(c.v, c.v + 5, o.a);
+    o.slot = hole[b].slot;
+    FacetTable::Entry* e = table.find_or_add(facet_key(o.a, o.slot), &added);
+    if (!added) return false;
+    *e = {e->key, ~static_cast<std::int32_t>(b), 0, true};
+    work.push_back(o);
+  }
+  const std::size_t limit = 8 * hole.size() + 64;  // a fill is smaller than its boundary
+  while (!work.empty()) {
+    Open o = work.back();
+    work.pop_back();
+    FacetTable::Entry* e = table.find_or_add(facet_key(o.a, o.slot), &added);
+    if (added) return false;
+    if (!e->open) continue;
+    const VertexId apex = find_apex(store, o.a, o.slot, link, close);
+    if (apex == kNoVertex || fill.size() >= limit) return false;
+    const auto x = static_cast<std::int32_t>(fill.size());
+    FillCell cell;
+    std::copy(o.a, o.a + 5, cell.v);
+    cell.v[o.slot] = apex;
+    std::fill(cell.n, cell.n + 5, 0);
+    fill.push_back(cell);
+    join(*e, fill, x, o.slot);
+    for (int j = 0; j < 5; ++j) {
+      if (j == o.slot) continue;
+      FacetTable::Entry* f = table.find_or_add(facet_key(fill[x].v, j), &added);
+      if (!added) {
+        if (!join(*f, fill, x, j)) return false;
+        continue;
+      }
+      *f = {f->key, x, static_cast<std::int8_t>(j), true};
+      // The other side: the same facet with two of its vertices swapped is positively
+      // oriented with an apex beyond it.
+      Open next;
+      std::copy(fill[x].v, fill[x].v + 5, next.a);
+      const int p = j == 0 ? 1 : 0, q = j <= 1 ? 2 : 1;
+      std::swap(next.a[p], next.a[q]);
+      next.slot = j;
+      work.push_back(next);
+    }
+  }
+  if (table.any_open() || !locally_delaunay(store, hole, fill)) return false;
+  return true;
+}
+
+bool link_fill(const PentatopeStore& store, const std::vector<HoleFacet>& hole,
+               std::vector<FillCell>& fill) {
+  thread_local FacetTable table;
+  table.reset(hole.size() + 5 * fill.size());
+  bool added;
+  for (std::size_t b = 0; b < hole.size(); ++b) {
+    const Pentatope& c = store.cell(hole[b].star_cell);
+    FacetTable::Entry* e = table.find_or_add(facet_key(c.v, hole[b].slot), &added);
+    if (!added) return false;
+    *e = {e->key, ~static_cast<std::int32_t>(b), 0, true};
+  }
+  for (std::size_t x = 0; x < fill.size(); ++x)
+    for (int j = 0; j < 5; ++j) {
+      FacetTable::Entry* e = table.find_or_add(facet_key(fill[x].v, j), &added);
+      if (added) {
+        *e = {e->key, static_cast<std::int32_t>(x), static_cast<std::int8_t>(j), true};
+      } else if (!join(*e, fill, static_cast<std::int32_t>(x), j)) {
+        return false;
+      }
+    }
+  return !table.any_open();
+}
+
+}  // namespace mesh4d::delaunay
