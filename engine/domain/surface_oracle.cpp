@@ -292,8 +292,22 @@ std::optional<SurfacePoint> SurfaceOracle::project_along(const Point4& seed,
   return f ? f : g;
 }
 
-std::vector<SurfaceBracket> SurfaceOracle::cfp_starts(const Point4& x, CfpMode mode,
-                                                      double tolerance) const {
+SurfaceBracket SurfaceOracle::edge_bracket(const SurfaceBracket& edge, double tolerance) const {
+  // A voxel center has its voxel's label (its own weight is 1), so the segment between two
+  // neighboring voxel centers of different labels brackets a crossing already. On it only
+  // those two voxels weigh (every other corner has a zero factor): I_a = 1 − s, I_b = s, and
+  // the cut function f_ab = 1 − 2s + β_a − β_b is zero at s = (1 + β_a − β_b) / 2. A bracket
+  // of `tolerance` around that point replaces a dozen halvings; closest_surface_bracket()
+  // checks the labels at the ends of the one it returns.
+  const double length = distance(edge.a, edge.b);
+  const double root = 0.5 * (1 + offset(edge.label_a) - offset(edge.label_b));
+  const double half = std::min(0.25, 0.5 * tolerance / length);
+  return {lerp(edge.a, edge.b, root - half), lerp(edge.a, edge.b, root + half), edge.label_a,
+          edge.label_b};
+}
+
+void SurfaceOracle::cfp_starts(const Point4& x, CfpMode mode, double tolerance,
+                               std::vector<SurfaceBracket>& out, bool search_edges) const {
   // Start: the nearest surface voxel to the voxel nearest x.
   const Vec4 u = image_.to_index(x);
   const Dims4& d = image_.dims();
@@ -312,7 +326,8 @@ std::vector<SurfaceBracket> SurfaceOracle::cfp_starts(const Point4& x, CfpMode m
 
   // Candidate surface points: on the ray from x through that voxel (continued a voxel past it),
   // and between the voxel and each face neighbor of another label.
-  std::vector<SurfaceBracket> candidates;
+  std::vector<SurfaceBracket>& candidates = out;
+  candidates.clear();
   // No label changes closer to x than the feature transform's lower bound: rays from x start
   // their walk there (most of a far x's walk was in one label).
   const double lower = surface_distance_bounds(x).first;
@@ -336,9 +351,8 @@ std::vector<SurfaceBracket> SurfaceOracle::cfp_starts(const Point4& x, CfpMode m
       if (other == own) continue;
       Point4 n = center;
       n[a] += side * image_.spacing()[a];
-      // A voxel center has its voxel's label (its own weight is 1), so the segment to a
-      // neighbor of another label brackets a crossing already: no walk along it.
-      candidates.push_back(narrow({center, n, own, other}, tolerance));
+      const SurfaceBracket edge{center, n, own, other};
+      candidates.push_back(search_edges ? narrow(edge, tolerance) : edge_bracket(edge, tolerance));
     }
   if (mode == CfpMode::descent || candidates.empty()) {
     // More starts: rays from x through the surface voxels around the nearest one (the zero set
@@ -362,24 +376,27 @@ std::vector<SurfaceBracket> SurfaceOracle::cfp_starts(const Point4& x, CfpMode m
   }
   // Nearest first, each oriented with x's side as a (and inner).
   const Label x_label = label_at(x);
-  std::vector<std::pair<double, SurfaceBracket>> nearest;
-  for (SurfaceBracket k : candidates) {
+  for (SurfaceBracket& k : candidates)
     if (k.label_b == x_label) std::swap(k.a, k.b), std::swap(k.label_a, k.label_b);
-    nearest.emplace_back(distance(x, k.middle().point), k);
-  }
-  std::stable_sort(nearest.begin(), nearest.end(),
-                   [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::vector<SurfaceBracket> out;
-  for (const auto& [dk, k] : nearest) out.push_back(k);
-  return out;
+  std::stable_sort(candidates.begin(), candidates.end(), [&](const auto& a, const auto& b) {
+    return distance(x, a.middle().point) < distance(x, b.middle().point);
+  });
 }
 
 std::optional<SurfaceBracket> SurfaceOracle::closest_surface_bracket(const Point4& x) const {
-  // Every candidate is bracketed coarsely (a thousandth of a voxel); pinpoint() narrows only
-  // the one a caller keeps: most of the ray mode's cost was halving candidates it then dropped.
-  const auto starts = cfp_starts(x, CfpMode::ray, 1e-3 * min_spacing_);
+  // Every candidate is bracketed coarsely, enough to rank them; only the nearest is narrowed
+  // to a thousandth of a voxel, and pinpoint() finishes the one a caller keeps: most of the ray
+  // mode's cost was halving candidates it then dropped.
+  thread_local std::vector<SurfaceBracket> starts;
+  cfp_starts(x, CfpMode::ray, kRankTolerance * min_spacing_, starts);
   if (starts.empty()) return std::nullopt;
-  return starts.front();
+  SurfaceBracket k = starts.front();
+  if (label_at(k.a) != k.label_a || label_at(k.b) != k.label_b) {
+    // Rounding put a crossing computed on a voxel edge outside its bracket: search them all.
+    cfp_starts(x, CfpMode::ray, kRankTolerance * min_spacing_, starts, true);
+    k = starts.front();
+  }
+  return narrow(k, 1e-3 * min_spacing_);
 }
 
 SurfacePoint SurfaceOracle::pinpoint(const SurfaceBracket& k) const {
@@ -392,7 +409,8 @@ SurfacePoint SurfaceOracle::closest_surface_point(const Point4& x, CfpMode mode)
     if (!k) return {x, label_at(x), label_at(x)};  // unreachable when validated
     return pinpoint(*k);
   }
-  const auto starts = cfp_starts(x, mode, fine_tolerance());
+  std::vector<SurfaceBracket> starts;
+  cfp_starts(x, mode, fine_tolerance(), starts);
   if (starts.empty()) return {x, label_at(x), label_at(x)};
   // The closest few starts are worth a descent: the interpolated surface of a voxelized shape
   // is bumpy at the voxel scale, so a single descent can stop on the wrong bump.

@@ -108,8 +108,16 @@ class SurfaceOracle {
   // The first label change from a towards b, bracketed to within `tolerance`.
   std::optional<SurfaceBracket> first_bracket(const Point4& a, const Point4& b,
                                               double tolerance) const;
-  // cfp's candidates (see CfpMode), nearest to x first, x's side as a.
-  std::vector<SurfaceBracket> cfp_starts(const Point4& x, CfpMode mode, double tolerance) const;
+  // cfp's candidates (see CfpMode) into `out`, nearest to x first, x's side as a. Crossings on
+  // voxel edges are computed (edge_bracket), or with `search_edges` found by halving.
+  void cfp_starts(const Point4& x, CfpMode mode, double tolerance, std::vector<SurfaceBracket>& out,
+                  bool search_edges = false) const;
+  // The crossing on the segment between two neighboring voxel centers of different labels,
+  // bracketed to `tolerance` where the cut function vanishes (computed, not searched).
+  SurfaceBracket edge_bracket(const SurfaceBracket& edge, double tolerance) const;
+  // How closely closest_surface_bracket() brackets its candidates before ranking them, in
+  // units of the smallest spacing.
+  static constexpr double kRankTolerance = 1.0 / 32;
   // The tolerance of every surface point returned: 1e-11 of the smallest spacing, where
   // |f| ≤ 2e-11 (f changes by at most 2 per voxel along any axis).
   double fine_tolerance() const { return 1e-11 * min_spacing_; }

@@ -165,6 +165,36 @@ TEST(SurfaceOracle, FindsLabelToLabelInterfaces) {
   EXPECT_LE(std::abs(oracle.cut_value(z.point, 1, 2)), 1e-9);
 }
 
+TEST(SurfaceOracle, RayModeBracketsTheSurface) {
+  // The refiner's R1 question: a bracket around ∂Ω (its ends have the labels it names, a
+  // thousandth of a voxel apart), then the point pinpointed on the zero set. Three labels with
+  // their offsets, anisotropic spacing, queries from everywhere near the object.
+  LabelImage4 image = beating_ventricle_phantom({50, 50, 22, 12}, {3.5, 3.5, 12, 1});
+  validate_and_close(image);
+  const SurfaceOracle oracle(image);
+  const Point4 c = center_of(image);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double min_spacing = 1;  // the time axis
+  int found = 0;
+  for (int q = 0; q < 400; ++q) {
+    const Point4 x{c[0] + 40 * u(rng), c[1] + 40 * u(rng), c[2] + 60 * u(rng), c[3] + 8 * u(rng)};
+    const auto k = oracle.closest_surface_bracket(x);
+    if (!k) continue;
+    ++found;
+    EXPECT_EQ(oracle.label_at(k->a), k->label_a) << "query " << q;
+    EXPECT_EQ(oracle.label_at(k->b), k->label_b) << "query " << q;
+    EXPECT_EQ(k->label_a, oracle.label_at(x)) << "query " << q;  // x's side first
+    EXPECT_LE(dist(k->a, k->b), 1.001e-3 * min_spacing) << "query " << q;
+    const SurfacePoint z = oracle.pinpoint(*k);
+    EXPECT_LE(std::abs(oracle.cut_value(z.point, z.inner, z.outer)), 1e-9) << "query " << q;
+    // Within about a voxel of the closest point the descent finds.
+    const SurfacePoint d = oracle.closest_surface_point(x);
+    EXPECT_LE(dist(x, z.point), dist(x, d.point) + 12) << "query " << q;
+  }
+  EXPECT_GT(found, 350);
+}
+
 TEST(SurfaceOracle, FirstCrossingAlongASegment) {
   const LabelImage4 image = hypersphere_phantom({20, 20, 20, 20}, {1, 1, 1, 1}, 6);
   const SurfaceOracle oracle(image);
