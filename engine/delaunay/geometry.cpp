@@ -75,11 +75,14 @@ Point4 circumcenter(const Simplex4& s) {
 }
 
 double circumradius(const Simplex4& s) {
-  const Point4 c = circumcenter(s);
-  if (!std::isfinite(c[0])) return std::numeric_limits<double>::infinity();
+  return circumradius(s, circumcenter(s));
+}
+
+double circumradius(const Simplex4& s, const Point4& center) {
+  if (!std::isfinite(center[0])) return std::numeric_limits<double>::infinity();
   // The mean over the vertices damps the rounding of the solve.
   double r = 0;
-  for (const Point4& p : s) r += std::sqrt(squared_distance(c, p));
+  for (const Point4& p : s) r += std::sqrt(squared_distance(center, p));
   return r / 5;
 }
 
@@ -102,7 +105,10 @@ double signed_volume(const Simplex4& s) {
 }
 
 double normalized_volume(const Simplex4& s) {
-  const double r = circumradius(s);
+  return normalized_volume(s, circumradius(s));
+}
+
+double normalized_volume(const Simplex4& s, double r) {
   if (!std::isfinite(r) || r == 0) return 0;
   const double r2 = r * r;
   return 384 * std::fabs(signed_volume(s)) / (25 * std::sqrt(5.0) * r2 * r2);

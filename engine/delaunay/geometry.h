@@ -16,6 +16,8 @@ Point4 circumcenter(const Simplex4& s);
 
 /// Distance from the circumcenter to the vertices (infinite for a flat simplex).
 double circumradius(const Simplex4& s);
+/// The same from a circumcenter already computed (the same result as circumradius(s)).
+double circumradius(const Simplex4& s, const Point4& center);
 
 /// Length of the shortest of the ten edges.
 double shortest_edge(const Simplex4& s);
@@ -29,5 +31,7 @@ double signed_volume(const Simplex4& s);
 /// Volume over the volume of the regular pentatope with the same circumradius,
 /// 384·|V| / (25·√5·R⁴): 1 for the regular pentatope, 0 for a flat one.
 double normalized_volume(const Simplex4& s);
+/// The same from a circumradius already computed (circumradius(s), for the same result).
+double normalized_volume(const Simplex4& s, double circumradius);
 
 }  // namespace mesh4d::delaunay

@@ -30,56 +30,64 @@ class FacetTable {
     bool open;
   };
 
+  // Empty, sized for about `facets` entries (it grows past them).
   void reset(std::size_t facets) {
     std::size_t size = 64;
-    while (size < 4 * facets) size *= 2;
+    while (size < 2 * facets) size *= 2;
     entries_.assign(size, Entry{{kNoVertex, 0, 0, 0}, 0, 0, false});
     mask_ = size - 1;
-    count_ = 0;
+    count_ = open_ = 0;
   }
-  // The entry of `key`; `added` tells whether it was just made (its key set, the rest to fill).
-  Entry* find_or_add(const FacetKey& key, bool* added) {
+  // The entry of `key`, or nullptr after adding it (then open() records its first pentatope).
+  Entry* find(const FacetKey& key) {
     if (2 * (count_ + 1) > entries_.size()) grow();
     std::size_t h = (key[0] * 0x9E3779B1u) ^ (key[1] * 0x85EBCA77u) ^ (key[2] * 0xC2B2AE3Du) ^
                     (key[3] * 0x27D4EB2Fu);
     for (std::size_t i = (h ^ (h >> 15)) & mask_;; i = (i + 1) & mask_) {
       Entry& e = entries_[i];
-      if (e.key == key) return *added = false, &e;
+      if (e.key == key) return &e;
       if (e.key[0] == kNoVertex) {
-        e.key = key;
+        e = {key, 0, 0, false};
         ++count_;
-        return *added = true, &e;
+        last_ = &e;
+        return nullptr;
       }
     }
   }
-  bool any_open() const {
-    for (const Entry& e : entries_)
-      if (e.key[0] != kNoVertex && e.open) return true;
-    return false;
+  // Records the first pentatope on the facet find() just added.
+  void open(std::int32_t owner, int slot) {
+    *last_ = {last_->key, owner, static_cast<std::int8_t>(slot), true};
+    ++open_;
   }
+  // Joins fill pentatope x (facet j) to the one recorded on e; false when e is already closed
+  // (a third pentatope on the facet).
+  bool join(Entry& e, std::vector<FillCell>& fill, std::int32_t x, int j) {
+    if (!e.open) return false;
+    fill[x].n[j] = e.owner;
+    if (e.owner >= 0) fill[e.owner].n[e.slot] = x;
+    e.open = false;
+    --open_;
+    return true;
+  }
+  bool any_open() const { return open_ > 0; }
 
  private:
   void grow() {
     std::vector<Entry> old;
     old.swap(entries_);
+    const std::size_t open = open_;
     reset(old.size());
-    bool added;
     for (const Entry& e : old)
-      if (e.key[0] != kNoVertex) *find_or_add(e.key, &added) = e;
+      if (e.key[0] != kNoVertex) {
+        find(e.key);
+        *last_ = e;
+      }
+    open_ = open;
   }
   std::vector<Entry> entries_;
-  std::size_t mask_ = 0, count_ = 0;
+  Entry* last_ = nullptr;
+  std::size_t mask_ = 0, count_ = 0, open_ = 0;
 };
-
-// Joins fill pentatope x (facet j) to whatever is recorded on that facet; false when the facet
-// is already closed (a third pentatope on it).
-bool join(FacetTable::Entry& e, std::vector<FillCell>& fill, std::int32_t x, int j) {
-  if (!e.open) return false;
-  fill[x].n[j] = e.owner;
-  if (e.owner >= 0) fill[e.owner].n[e.slot] = x;
-  e.open = false;
-  return true;
-}
 
 // The facet opposite `slot` of a positively oriented vertex array `a` and the link vertices
 // that could complete it on the side where a[slot] would be: the pencil of spheres through the
@@ -257,23 +265,21 @@ bool wrap_hole(const PentatopeStore& store, const std::vector<HoleFacet>& hole,
   fill.clear();
   work.clear();
   table.reset(3 * hole.size());
-  bool added;
   for (std::size_t b = 0; b < hole.size(); ++b) {
     Open o;
     const Pentatope& c = store.cell(hole[b].star_cell);
     std::copy(c.v, c.v + 5, o.a);
     o.slot = hole[b].slot;
-    FacetTable::Entry* e = table.find_or_add(facet_key(o.a, o.slot), &added);
-    if (!added) return false;
-    *e = {e->key, ~static_cast<std::int32_t>(b), 0, true};
+    if (table.find(facet_key(o.a, o.slot))) return false;
+    table.open(~static_cast<std::int32_t>(b), 0);
     work.push_back(o);
   }
   const std::size_t limit = 8 * hole.size() + 64;  // a fill is smaller than its boundary
   while (!work.empty()) {
     Open o = work.back();
     work.pop_back();
-    FacetTable::Entry* e = table.find_or_add(facet_key(o.a, o.slot), &added);
-    if (added) return false;
+    FacetTable::Entry* e = table.find(facet_key(o.a, o.slot));
+    if (!e) return false;
     if (!e->open) continue;
     const VertexId apex = find_apex(store, o.a, o.slot, link, close);
     if (apex == kNoVertex || fill.size() >= limit) return false;
@@ -283,15 +289,14 @@ bool wrap_hole(const PentatopeStore& store, const std::vector<HoleFacet>& hole,
     cell.v[o.slot] = apex;
     std::fill(cell.n, cell.n + 5, 0);
     fill.push_back(cell);
-    join(*e, fill, x, o.slot);
+    table.join(*e, fill, x, o.slot);
     for (int j = 0; j < 5; ++j) {
       if (j == o.slot) continue;
-      FacetTable::Entry* f = table.find_or_add(facet_key(fill[x].v, j), &added);
-      if (!added) {
-        if (!join(*f, fill, x, j)) return false;
+      if (FacetTable::Entry* f = table.find(facet_key(fill[x].v, j))) {
+        if (!table.join(*f, fill, x, j)) return false;
         continue;
       }
-      *f = {f->key, x, static_cast<std::int8_t>(j), true};
+      table.open(x, j);
       // The other side: the same facet with two of its vertices swapped is positively
       // oriented with an apex beyond it.
       Open next;
@@ -310,19 +315,17 @@ bool link_fill(const PentatopeStore& store, const std::vector<HoleFacet>& hole,
                std::vector<FillCell>& fill) {
   thread_local FacetTable table;
   table.reset(hole.size() + 5 * fill.size());
-  bool added;
   for (std::size_t b = 0; b < hole.size(); ++b) {
     const Pentatope& c = store.cell(hole[b].star_cell);
-    FacetTable::Entry* e = table.find_or_add(facet_key(c.v, hole[b].slot), &added);
-    if (!added) return false;
-    *e = {e->key, ~static_cast<std::int32_t>(b), 0, true};
+    if (table.find(facet_key(c.v, hole[b].slot))) return false;
+    table.open(~static_cast<std::int32_t>(b), 0);
   }
   for (std::size_t x = 0; x < fill.size(); ++x)
     for (int j = 0; j < 5; ++j) {
-      FacetTable::Entry* e = table.find_or_add(facet_key(fill[x].v, j), &added);
-      if (added) {
-        *e = {e->key, static_cast<std::int32_t>(x), static_cast<std::int8_t>(j), true};
-      } else if (!join(*e, fill, static_cast<std::int32_t>(x), j)) {
+      FacetTable::Entry* e = table.find(facet_key(fill[x].v, j));
+      if (!e) {
+        table.open(static_cast<std::int32_t>(x), j);
+      } else if (!table.join(*e, fill, static_cast<std::int32_t>(x), j)) {
         return false;
       }
     }

@@ -307,7 +307,8 @@ SurfaceBracket SurfaceOracle::edge_bracket(const SurfaceBracket& edge, double to
 }
 
 void SurfaceOracle::cfp_starts(const Point4& x, CfpMode mode, double tolerance,
-                               std::vector<SurfaceBracket>& out, bool search_edges) const {
+                               std::vector<SurfaceBracket>& out, bool search_edges,
+                               double lower) const {
   // Start: the nearest surface voxel to the voxel nearest x.
   const Vec4 u = image_.to_index(x);
   const Dims4& d = image_.dims();
@@ -330,7 +331,7 @@ void SurfaceOracle::cfp_starts(const Point4& x, CfpMode mode, double tolerance,
   candidates.clear();
   // No label changes closer to x than the feature transform's lower bound: rays from x start
   // their walk there (most of a far x's walk was in one label).
-  const double lower = surface_distance_bounds(x).first;
+  if (lower < 0) lower = surface_distance_bounds(x).first;
   const auto ray = [&](const Point4& end) {
     const double length = distance(x, end);
     const Point4 start = lower > 0 && lower < length ? lerp(x, end, lower / length) : x;
@@ -383,20 +384,22 @@ void SurfaceOracle::cfp_starts(const Point4& x, CfpMode mode, double tolerance,
   });
 }
 
-std::optional<SurfaceBracket> SurfaceOracle::closest_surface_bracket(const Point4& x) const {
-  // Every candidate is bracketed coarsely, enough to rank them; only the nearest is narrowed
-  // to a thousandth of a voxel, and pinpoint() finishes the one a caller keeps: most of the ray
-  // mode's cost was halving candidates it then dropped.
+std::optional<SurfaceBracket> SurfaceOracle::closest_surface_bracket(const Point4& x,
+                                                                     double lower) const {
+  // Every candidate is bracketed coarsely, enough to rank them; pinpoint() narrows the one a
+  // caller keeps: most of the ray mode's cost was halving candidates it then dropped.
   thread_local std::vector<SurfaceBracket> starts;
-  cfp_starts(x, CfpMode::ray, kRankTolerance * min_spacing_, starts);
+  const double tolerance = kRankTolerance * min_spacing_;
+  cfp_starts(x, CfpMode::ray, tolerance, starts, false, lower);
   if (starts.empty()) return std::nullopt;
-  SurfaceBracket k = starts.front();
-  if (label_at(k.a) != k.label_a || label_at(k.b) != k.label_b) {
-    // Rounding put a crossing computed on a voxel edge outside its bracket: search them all.
-    cfp_starts(x, CfpMode::ray, kRankTolerance * min_spacing_, starts, true);
-    k = starts.front();
-  }
-  return narrow(k, 1e-3 * min_spacing_);
+  const SurfaceBracket& k = starts.front();
+  // A crossing computed on a voxel edge (its ends differ along one axis only; the ray's
+  // seldom do) is checked; when rounding put it outside its bracket, every edge is searched.
+  int axes = 0;
+  for (int a = 0; a < 4; ++a) axes += k.a[a] != k.b[a];
+  if (axes == 1 && (label_at(k.a) != k.label_a || label_at(k.b) != k.label_b))
+    cfp_starts(x, CfpMode::ray, tolerance, starts, true, lower);
+  return starts.front();
 }
 
 SurfacePoint SurfaceOracle::pinpoint(const SurfaceBracket& k) const {

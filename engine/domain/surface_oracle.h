@@ -70,11 +70,16 @@ class SurfaceOracle {
   /// nearest surface voxel (never seen on a validated image), returns x with inner == outer:
   /// callers check that before using the point as a surface point.
   SurfacePoint closest_surface_point(const Point4& x, CfpMode mode = CfpMode::descent) const;
-  /// The ray mode's answer bracketed to a thousandth of a voxel (its middle is that close to
-  /// ∂Ω), for callers that often drop it; pinpoint() finishes the one kept. Nothing when no
-  /// crossing is found near the feature voxel.
-  std::optional<SurfaceBracket> closest_surface_bracket(const Point4& x) const;
+  /// The ray mode's answer bracketed to kRankTolerance of the smallest spacing (its middle is
+  /// within half that of ∂Ω), for callers that often drop it; pinpoint() finishes the one kept.
+  /// Nothing when no crossing is found near the feature voxel. `lower`: the first of
+  /// surface_distance_bounds(x), when the caller has it (computed when negative).
+  std::optional<SurfaceBracket> closest_surface_bracket(const Point4& x, double lower = -1) const;
   SurfacePoint pinpoint(const SurfaceBracket& k) const;
+
+  /// How closely closest_surface_bracket() brackets its candidates (to rank them, and what it
+  /// returns), in units of the smallest spacing.
+  static constexpr double kRankTolerance = 1.0 / 32;
 
   /// Cheap bounds on the distance from x to ∂Ω, from the feature transform alone (no search):
   /// {lower, upper}. Every point of ∂Ω lies within one voxel-cell diagonal of a surface voxel.
@@ -110,14 +115,12 @@ class SurfaceOracle {
                                               double tolerance) const;
   // cfp's candidates (see CfpMode) into `out`, nearest to x first, x's side as a. Crossings on
   // voxel edges are computed (edge_bracket), or with `search_edges` found by halving.
+  // `lower` as in closest_surface_bracket().
   void cfp_starts(const Point4& x, CfpMode mode, double tolerance, std::vector<SurfaceBracket>& out,
-                  bool search_edges = false) const;
+                  bool search_edges = false, double lower = -1) const;
   // The crossing on the segment between two neighboring voxel centers of different labels,
   // bracketed to `tolerance` where the cut function vanishes (computed, not searched).
   SurfaceBracket edge_bracket(const SurfaceBracket& edge, double tolerance) const;
-  // How closely closest_surface_bracket() brackets its candidates before ranking them, in
-  // units of the smallest spacing.
-  static constexpr double kRankTolerance = 1.0 / 32;
   // The tolerance of every surface point returned: 1e-11 of the smallest spacing, where
   // |f| ≤ 2e-11 (f changes by at most 2 per voxel along any axis).
   double fine_tolerance() const { return 1e-11 * min_spacing_; }

@@ -70,9 +70,9 @@ bool Refiner::ball_meets_surface(const Point4& center, double radius,
   const auto [lower, upper] = oracle_.surface_distance_bounds(center);
   if (lower >= radius) return false;
   // The paper's cfp (ray to the nearest surface voxel, then bisection): the descent to the exact
-  // closest point costs ten times more and changes little for sampling. Bracketed to a
-  // thousandth of a voxel: R1 pinpoints it only when it inserts it.
-  const auto z = oracle_.closest_surface_bracket(center);
+  // closest point costs ten times more and changes little for sampling. Bracketed to 1/32 of a
+  // voxel: R1 pinpoints it only when it inserts it.
+  const auto z = oracle_.closest_surface_bracket(center, lower);
   if (!z) return false;  // no surface point found near the feature voxel
   *cfp = *z;
   return distance(center, z->middle().point) < radius;
@@ -86,7 +86,7 @@ void Refiner::update_info(CellId c) {
   const auto s = simplex_of(c);
   info.center = delaunay::circumcenter(s);
   if (!std::isfinite(info.center[0])) return;
-  info.radius = distance(info.center, s[0]);
+  info.radius = delaunay::circumradius(s, info.center);
   info.label = oracle_.label_at(info.center);
   info.finite = true;
 }
@@ -127,7 +127,7 @@ Refiner::Rule Refiner::quick_rule(CellId c) const {
     return kR3;
   if (oracle_.surface_distance_bounds(info.center).first < r) return kR1;
   if (inside && rho >= params_.radius_edge_bound) return kR3;
-  if (inside && delaunay::normalized_volume(s) < params_.sliver_bound) return kR4;
+  if (inside && delaunay::normalized_volume(s, r) < params_.sliver_bound) return kR4;
   if (inside && params_.max_interior_radius > 0 && r > params_.max_interior_radius) return kSizing;
   if (has_restricted_non_feature_facet(c)) return kR5;
   return kNone;
@@ -162,7 +162,7 @@ Refiner::Rule Refiner::classify(Worker& w, CellId c, Point4* point, VertexKind* 
     }
   }
   if (bad_ratio) return kR3;
-  if (inside && delaunay::normalized_volume(s) < params_.sliver_bound) {
+  if (inside && delaunay::normalized_volume(s, r) < params_.sliver_bound) {
     *point = pick_from_region(w, c, center, r);
     return kR4;
   }

@@ -166,9 +166,9 @@ TEST(SurfaceOracle, FindsLabelToLabelInterfaces) {
 }
 
 TEST(SurfaceOracle, RayModeBracketsTheSurface) {
-  // The refiner's R1 question: a bracket around ∂Ω (its ends have the labels it names, a
-  // thousandth of a voxel apart), then the point pinpointed on the zero set. Three labels with
-  // their offsets, anisotropic spacing, queries from everywhere near the object.
+  // The refiner's R1 question: a bracket around ∂Ω (its ends have the labels it names, at most
+  // kRankTolerance of the smallest spacing apart), then the point pinpointed on the zero set. Three
+  // labels with their offsets, anisotropic spacing, queries from everywhere near the object.
   LabelImage4 image = beating_ventricle_phantom({50, 50, 22, 12}, {3.5, 3.5, 12, 1});
   validate_and_close(image);
   const SurfaceOracle oracle(image);
@@ -185,7 +185,8 @@ TEST(SurfaceOracle, RayModeBracketsTheSurface) {
     EXPECT_EQ(oracle.label_at(k->a), k->label_a) << "query " << q;
     EXPECT_EQ(oracle.label_at(k->b), k->label_b) << "query " << q;
     EXPECT_EQ(k->label_a, oracle.label_at(x)) << "query " << q;  // x's side first
-    EXPECT_LE(dist(k->a, k->b), 1.001e-3 * min_spacing) << "query " << q;
+    EXPECT_LE(dist(k->a, k->b), 1.001 * SurfaceOracle::kRankTolerance * min_spacing)
+        << "query " << q;
     const SurfacePoint z = oracle.pinpoint(*k);
     EXPECT_LE(std::abs(oracle.cut_value(z.point, z.inner, z.outer)), 1e-9) << "query " << q;
     // Within about a voxel of the closest point the descent finds.
