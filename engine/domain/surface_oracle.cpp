@@ -265,10 +265,13 @@ std::optional<SurfaceBracket> SurfaceOracle::first_bracket(const Point4& a, cons
   if (!(t0 <= t1)) return std::nullopt;
   const Point4 start = t0 > 0 ? lerp(a, b, t0) : a;
   const Point4 end = t1 < 1 ? lerp(a, b, t1) : b;
-  // Half-voxel steps: in one step the piecewise-multilinear label function can change at most
-  // across one cell boundary, so no thin feature is skipped over.
-  const int steps =
-      std::max(1, static_cast<int>(std::ceil(distance(start, end) / (0.5 * min_spacing_))));
+  // Steps of at most half a cell along every axis (in index space: with the patients' 6 mm
+  // slices and 1 mm frames, steps of half the smallest spacing were up to 6 times shorter): in
+  // one step the piecewise-multilinear label function can change at most across one cell
+  // boundary, so no thin feature is skipped over.
+  double cells = 0;
+  for (int k = 0; k < 4; ++k) cells = std::max(cells, (t1 - t0) * std::abs(ub[k] - ua[k]));
+  const int steps = std::max(1, static_cast<int>(std::ceil(2 * cells)));
   Point4 previous = start;
   for (int i = 1; i <= steps; ++i) {
     const Point4 p = lerp(start, end, double(i) / steps);

@@ -134,7 +134,7 @@ class SurfaceOracle {
   std::vector<double> offset_;     // β by label value
   std::size_t corner_offset_[16];  // linear index of each of a cell's corners from its first
   double voxel_size_;              // the largest spacing: the scale of search steps
-  double min_spacing_;             // the smallest: the step of first_crossing's walk
+  double min_spacing_;             // the smallest: the scale of tolerances
   double cell_diagonal_;           // of the hypercube between 16 voxel centers
 };
 
