@@ -469,9 +469,11 @@ RefineResult Refiner::run(ProgressSink* sink) {
   admit(fresh);
   drain(sink);
   // Where three labels meet the rules guarantee no manifold boundary; sample more of ∂Ω there
-  // and refine again. Points closer than a quarter of Δ to a sampled one are allowed only when
-  // nothing else is left, down to Δ/16: the work stays bounded.
-  double min_spacing = 0.25 * params_.delta;
+  // and refine again. Points closer than half of Δ to a sampled one are allowed only when
+  // nothing else is left, down to Δ/16: the work stays bounded. (Starting at a quarter of Δ,
+  // the short edges of the points squeezed in set off the radius-edge rule around them: on the
+  // ventricle the repair then doubled the mesh after the rules, for the same fidelity.)
+  double min_spacing = 0.5 * params_.delta;
   for (int round = 0; round < kRepairRounds && min_spacing >= params_.delta / 16;) {
     const std::size_t inserted = repair_pinches(min_spacing);
     if (inserted == 0) {
