@@ -114,11 +114,12 @@ TEST(Refiner, VentricleGetsBothLabels) {
   EXPECT_GT(wall, 0);
   // Where pool, wall and background meet at the padded time caps the surface has sharp
   // corners that a boundary of size-δ facets cuts across: over seeds 1–14 the largest distance
-  // was 0.42–0.57 δ (means 0.08 δ), over 140 parallel runs 0.40–0.57 δ and once 0.645 δ, hence
-  // 0.75 δ here. (The rules bound it only loosely: a boundary tetrahedron lies in its surface
-  // ball, centered on ∂Ω and no larger than the circumball of one of its two pentatopes, which
-  // meets ∂Ω and so is kept below 2Δ by R2.)
-  expect_fidelity(r.mesh, oracle, {0, 1, 2}, 0.75 * params.delta);
+  // was 0.42–0.57 δ (means 0.08 δ), over 140 parallel runs 0.40–0.57 δ and once 0.645 δ. Since
+  // the pinch repair starts at Δ/2 (session 8) the tail is longer: over 28 parallel runs median
+  // 0.50 δ, largest 0.70 δ, and once in CI 0.76 δ; hence 1.0 δ here. (The rules bound it only
+  // loosely: a boundary tetrahedron lies in its surface ball, centered on ∂Ω and no larger than
+  // the circumball of one of its two pentatopes, which meets ∂Ω and so is kept below 2Δ by R2.)
+  expect_fidelity(r.mesh, oracle, {0, 1, 2}, 1.0 * params.delta);
   std::size_t components = 0;
   EXPECT_EQ(unmeshed_components(image, r.mesh, &components), 0u);
   EXPECT_EQ(components, 2u);
