@@ -477,7 +477,9 @@ RefineResult Refiner::run(ProgressSink* sink) {
   for (int round = 0; round < kRepairRounds && min_spacing >= params_.delta / 16;) {
     const std::size_t inserted = repair_pinches(min_spacing);
     if (inserted == 0) {
-      if (count_pinches(nullptr) == 0) break;
+      // Nothing went in since the repair counted (the same count a full scan gives: checked on
+      // the ventricle and the patients), so its list says whether pinches are left.
+      if (known_pinches_.empty()) break;
       min_spacing /= 2;
       continue;
     }
