@@ -132,8 +132,22 @@ SurfaceOracle::LabelWeights SurfaceOracle::weights_in_cell(const CellLabels& cel
   LabelWeights w;
   w.count = cell.count;
   for (int k = 0; k < cell.count; ++k) w.label[k] = cell.label[k], w.weight[k] = 0;
-  for (int corner = 0; corner < 16; ++corner)
-    w.weight[cell.slot[corner]] += xy[corner & 3] * zt[corner >> 2];
+  if (cell.count == 2) {
+    // The common mixed cell: two sums kept in registers, each corner's product added to its
+    // label's sum and 0 to the other's (exact), in corner order, so the same sums as below.
+    double sum[2] = {0, 0};
+    for (int corner = 0; corner < 16; ++corner) {
+      const double product = xy[corner & 3] * zt[corner >> 2];
+      const bool second = cell.slot[corner] != 0;
+      sum[0] += second ? 0.0 : product;
+      sum[1] += second ? product : 0.0;
+    }
+    w.weight[0] = sum[0];
+    w.weight[1] = sum[1];
+  } else {
+    for (int corner = 0; corner < 16; ++corner)
+      w.weight[cell.slot[corner]] += xy[corner & 3] * zt[corner >> 2];
+  }
   for (int k = 0; k < w.count; ++k) w.weight[k] += offset(w.label[k]);
   return w;
 }
