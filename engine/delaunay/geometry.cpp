@@ -58,12 +58,6 @@ double det4(const double m[4][4]) {
          minor2(0, 1, 3) * minor2(2, 0, 2) + minor2(0, 2, 3) * minor2(2, 0, 1);
 }
 
-double squared_distance(const Point4& a, const Point4& b) {
-  double s = 0;
-  for (int j = 0; j < 4; ++j) s += (a[j] - b[j]) * (a[j] - b[j]);
-  return s;
-}
-
 }  // namespace
 
 Point4 circumcenter(const Simplex4& s) {

@@ -107,9 +107,10 @@ class ApexSearch {
       int c[3], m = 0;
       for (int j = 0; j < 4; ++j)
         if (j != k) c[m++] = j;
-      const double minor = e[0][c[0]] * (e[1][c[1]] * e[2][c[2]] - e[1][c[2]] * e[2][c[1]]) -
-                           e[0][c[1]] * (e[1][c[0]] * e[2][c[2]] - e[1][c[2]] * e[2][c[0]]) +
-                           e[0][c[2]] * (e[1][c[0]] * e[2][c[1]] - e[1][c[1]] * e[2][c[0]]);
+      double rows[3][3];
+      for (int r = 0; r < 3; ++r)
+        for (int j = 0; j < 3; ++j) rows[r][j] = e[r][c[j]];
+      const double minor = det3(rows[0], rows[1], rows[2]);
       normal_[k] = sign * ((3 + k) % 2 == 0 ? minor : -minor);
     }
     // The facet's circumcenter in its own hyperplane: f0 + Σ x_r e_r with Gram · x = |e_r|²/2.
@@ -128,7 +129,7 @@ class ApexSearch {
     }
     for (int k = 0; k < 4; ++k)
       center_[k] = (*f_[0])[k] + x[0] * e[0][k] + x[1] * e[1][k] + x[2] * e[2][k];
-    radius2_ = distance2(center_, *f_[0]);
+    radius2_ = squared_distance(center_, *f_[0]);
     scale_ = std::sqrt(std::max({dot(e[0], e[0]), dot(e[1], e[1]), dot(e[2], e[2])}));
     normal_norm_ = std::sqrt(dot(normal_, normal_));
     ok_ = std::isfinite(radius2_) && normal_norm_ > 0;
@@ -146,7 +147,9 @@ class ApexSearch {
   double uncertain_height() const { return 1e-9 * scale_; }
   // Ranks the spheres through the facet and u (u on the open side, at height h): twice how far
   // the center lies towards that side. The sphere of smallest rank holds no other point there.
-  double rank(const Point4& u, double h) const { return (distance2(u, center_) - radius2_) / h; }
+  double rank(const Point4& u, double h) const {
+    return (squared_distance(u, center_) - radius2_) / h;
+  }
   // Ranks closer than this to each other are compared exactly.
   double rank_margin(double rank) const { return 1e-7 * (std::abs(rank) + scale_); }
 
@@ -157,11 +160,6 @@ class ApexSearch {
   static double det3(const double a[3], const double b[3], const double c[3]) {
     return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
            a[2] * (b[0] * c[1] - b[1] * c[0]);
-  }
-  static double distance2(const Point4& a, const Point4& b) {
-    double s = 0;
-    for (int k = 0; k < 4; ++k) s += (a[k] - b[k]) * (a[k] - b[k]);
-    return s;
   }
   const Point4* f_[4];
   double normal_[4];

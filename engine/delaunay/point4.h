@@ -14,11 +14,16 @@ using Point4 = std::array<double, 4>;
 /// which the symbolic tie-break of the in-sphere predicate relies on.
 using VertexId = std::uint32_t;
 
-/// Euclidean distance (the refiner, the oracle and the checks all measure with this one).
-inline double distance(const Point4& a, const Point4& b) {
+/// Squared Euclidean distance.
+inline double squared_distance(const Point4& a, const Point4& b) {
   double d = 0;
   for (int i = 0; i < 4; ++i) d += (a[i] - b[i]) * (a[i] - b[i]);
-  return std::sqrt(d);
+  return d;
+}
+
+/// Euclidean distance (the refiner, the oracle and the checks all measure with this one).
+inline double distance(const Point4& a, const Point4& b) {
+  return std::sqrt(squared_distance(a, b));
 }
 
 }  // namespace mesh4d
