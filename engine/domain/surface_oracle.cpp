@@ -20,7 +20,7 @@ Point4 lerp(const Point4& a, const Point4& b, double s) {
 }  // namespace
 
 SurfaceOracle::SurfaceOracle(const LabelImage4& image)
-    : image_(image), feature_(feature_transform(image)) {
+    : image_(image), feature_(feature_transform(image)), uniform_(image) {
   if (feature_.empty() || feature_[0] == kNoFeature)
     throw ImageError("image has a single label everywhere: there is no surface to mesh");
   const Vec4& s = image.spacing();
@@ -83,17 +83,14 @@ SurfaceOracle::LabelWeights SurfaceOracle::weights_at(const Point4& x) const {
   if (interior) {
     // The common case, and most queries fall in a cell of one label: no weights needed.
     const std::size_t first = image_.linear_index(base[0], base[1], base[2], base[3]);
-    bool uniform = true;
-    for (int corner = 0; corner < 16; ++corner) {
-      corner_label[corner] = image_.at(first + corner_offset_[corner]);
-      uniform = uniform && corner_label[corner] == corner_label[0];
-    }
-    if (uniform) {
-      w.label[0] = corner_label[0];
-      w.weight[0] = 1 + offset(corner_label[0]);
+    if (uniform_.uniform(first)) {
+      w.label[0] = image_.at(first);
+      w.weight[0] = 1 + offset(w.label[0]);
       w.count = 1;
       return w;
     }
+    for (int corner = 0; corner < 16; ++corner)
+      corner_label[corner] = image_.at(first + corner_offset_[corner]);
   } else {
     for (int corner = 0; corner < 16; ++corner) {
       bool in_image = true;

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "domain/label_image.h"
+#include "domain/uniform_cells.h"
 
 namespace mesh4d::domain {
 
@@ -86,7 +87,9 @@ class SurfaceOracle {
   std::pair<double, double> surface_distance_bounds(const Point4& x) const;
 
   /// Bytes held by the oracle (the feature transform).
-  std::size_t memory_bytes() const { return feature_.size() * sizeof(std::uint32_t); }
+  std::size_t memory_bytes() const {
+    return feature_.size() * sizeof(std::uint32_t) + uniform_.memory_bytes();
+  }
 
  private:
   // Interpolated indicator values of the labels around continuous index u.
@@ -131,6 +134,7 @@ class SurfaceOracle {
 
   const LabelImage4& image_;
   std::vector<std::uint32_t> feature_;
+  UniformCells uniform_;
   std::vector<double> offset_;     // β by label value
   std::size_t corner_offset_[16];  // linear index of each of a cell's corners from its first
   double voxel_size_;              // the largest spacing: the scale of search steps

@@ -65,9 +65,8 @@ Point4 Refiner::clamp_to_box(const Point4& p) const {
   return q;
 }
 
-bool Refiner::ball_meets_surface(const Point4& center, double radius,
+bool Refiner::ball_meets_surface(const Point4& center, double radius, double lower,
                                  domain::SurfaceBracket* cfp) const {
-  const auto [lower, upper] = oracle_.surface_distance_bounds(center);
   if (lower >= radius) return false;
   // The paper's cfp (ray to the nearest surface voxel, then bisection): the descent to the exact
   // closest point costs ten times more and changes little for sampling. Bracketed to 1/32 of a
@@ -88,6 +87,8 @@ void Refiner::update_info(CellId c) {
   if (!std::isfinite(info.center[0])) return;
   info.radius = delaunay::circumradius(s, info.center);
   info.label = oracle_.label_at(info.center);
+  // Asked by R1's filter in quick_rule, then by the cfp: computed once per cell.
+  info.surface_lower = oracle_.surface_distance_bounds(info.center).first;
   info.finite = true;
 }
 
@@ -125,7 +126,7 @@ Refiner::Rule Refiner::quick_rule(CellId c) const {
   const double rho = r / delaunay::shortest_edge(s);
   if (params_.rule_order == RuleOrder::r3_first && inside && rho >= params_.radius_edge_bound)
     return kR3;
-  if (oracle_.surface_distance_bounds(info.center).first < r) return kR1;
+  if (info.surface_lower < r) return kR1;
   if (inside && rho >= params_.radius_edge_bound) return kR3;
   if (inside && delaunay::normalized_volume(s, r) < params_.sliver_bound) return kR4;
   if (inside && params_.max_interior_radius > 0 && r > params_.max_interior_radius) return kSizing;
@@ -148,7 +149,7 @@ Refiner::Rule Refiner::classify(Worker& w, CellId c, Point4* point, VertexKind* 
   // surface point in it can be an R1 point, and r < Δ rules out R2; skip the cfp.
   domain::SurfaceBracket z;
   if ((r >= params_.delta || !feature_within(center, params_.delta - r)) &&
-      ball_meets_surface(center, r, &z)) {
+      ball_meets_surface(center, r, info.surface_lower, &z)) {
     if (!feature_within(z.middle().point, params_.delta)) {
       w.r1_sample = z.middle().point;
       *point = oracle_.pinpoint(z).point;
@@ -388,11 +389,16 @@ Refiner::Outcome Refiner::insert_and_admit(Worker& w, const Point4& point, Verte
       if (tri_.remove(u, &w.created, *w.ws, w.guard) ==
           delaunay::Triangulation::RemoveResult::removed)
         w.removals[kR5].fetch_add(1, std::memory_order_relaxed);
-  // The new pentatopes: the star of the new vertex, and what filled removed vertices' holes
-  // (some of those may have died in a later removal).
-  tri_.incident_cells(v, w.fresh);
-  for (CellId c : w.created)
-    if (st.is_live(c)) w.fresh.push_back(c);
+  // The new pentatopes: the star of the new vertex (what commit made, unless removals changed
+  // it), and what filled removed vertices' holes (some of those may have died in a later
+  // removal).
+  if (w.near.empty() || rule != kR5) {
+    w.fresh.assign(w.ws->created.begin(), w.ws->created.end());
+  } else {
+    tri_.incident_cells(v, w.fresh);
+    for (CellId c : w.created)
+      if (st.is_live(c)) w.fresh.push_back(c);
+  }
   std::sort(w.fresh.begin(), w.fresh.end());
   w.fresh.erase(std::unique(w.fresh.begin(), w.fresh.end()), w.fresh.end());
   admit(w, w.fresh);

@@ -100,6 +100,7 @@ class Refiner {
   struct CellInfo {
     Point4 center;
     double radius = 0;
+    double surface_lower = 0;  // a lower bound on the distance from center to ∂Ω
     domain::Label label = 0;
     bool finite = false;  // false for infinite or flat pentatopes
   };
@@ -142,7 +143,10 @@ class Refiner {
     std::shared_lock lock(features_mutex_);
     return features_.any_within(p, r);
   }
-  bool ball_meets_surface(const Point4& center, double radius, domain::SurfaceBracket* cfp) const;
+  // Whether the ball meets ∂Ω, judged at cfp(center); `lower` bounds the distance from center
+  // to ∂Ω from below.
+  bool ball_meets_surface(const Point4& center, double radius, double lower,
+                          domain::SurfaceBracket* cfp) const;
   Point4 clamp_to_box(const Point4& p) const;
   // Applies the rules until none does: on this thread, or on RefineParams::threads workers.
   void drain(ProgressSink* sink);

@@ -97,14 +97,19 @@ def main():
     chromium = None
     failures = []
     try:
-        # A job long enough to watch (one thread, a fine delta).
-        request = urllib.request.Request(f"{base}/v1/jobs?delta=3&threads=1&name=browser-test",
-                                         data=open(image, "rb").read(), method="POST")
-        job = json.load(urllib.request.urlopen(request, timeout=60))["job"]["id"]
         chromium = subprocess.Popen(
             [chromium_bin, *CHROMIUM_FLAGS, f"--user-data-dir={folder}/profile", base + "/"],
             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
         tools = DevTools(devtools_page(chromium))
+        # The page first, then the job: a job that ended while the browser was still starting
+        # (a loaded machine) would leave nothing to watch.
+        deadline = time.time() + 120
+        while tools.read_page() is None and time.time() < deadline:
+            time.sleep(0.2)
+        # A job long enough to watch (one thread, a fine delta).
+        request = urllib.request.Request(f"{base}/v1/jobs?delta=3&threads=1&name=browser-test",
+                                         data=open(image, "rb").read(), method="POST")
+        job = json.load(urllib.request.urlopen(request, timeout=60))["job"]["id"]
         seen, final = [], None
         deadline = time.time() + 300
         while time.time() < deadline:
