@@ -38,22 +38,48 @@ SurfaceOracle::SurfaceOracle(const LabelImage4& image)
     offset_[labels[r]] = kMaxLabelOffset * static_cast<double>(r) / (labels.size() - 1);
 }
 
-std::pair<double, double> SurfaceOracle::surface_distance_bounds(const Point4& x) const {
+std::size_t SurfaceOracle::nearest_voxel(const Point4& x) const {
   const Vec4 u = image_.to_index(x);
   const Dims4& d = image_.dims();
   std::size_t c[4];
   for (int a = 0; a < 4; ++a)
     c[a] = static_cast<std::size_t>(std::clamp(std::round(u[a]), 0.0, double(d[a] - 1)));
-  const Point4 v = image_.voxel_center(c[0], c[1], c[2], c[3]);
-  std::size_t f = feature_[image_.linear_index(c[0], c[1], c[2], c[3])];
-  std::size_t fc[4];
-  for (int a = 0; a < 4; ++a) fc[a] = f % d[a], f /= d[a];
-  const Point4 s = image_.voxel_center(fc[0], fc[1], fc[2], fc[3]);
+  return image_.linear_index(c[0], c[1], c[2], c[3]);
+}
+
+Point4 SurfaceOracle::center_of(std::uint32_t voxel, std::uint32_t coordinates[4]) const {
+  // 32-bit divisions: the feature transform's indices fit (it stores them in 32 bits).
+  const Dims4& d = image_.dims();
+  for (int a = 0; a < 4; ++a) {
+    const auto size = static_cast<std::uint32_t>(d[a]);
+    coordinates[a] = voxel % size;
+    voxel /= size;
+  }
+  return image_.voxel_center(coordinates[0], coordinates[1], coordinates[2], coordinates[3]);
+}
+
+std::pair<double, double> SurfaceOracle::surface_distance_bounds(const Point4& x) const {
+  const std::size_t nearest = nearest_voxel(x);
+  std::uint32_t c[4], fc[4];
+  const Point4 v = center_of(static_cast<std::uint32_t>(nearest), c);
+  const Point4 s = center_of(feature_[nearest], fc);
   // The nearest surface voxel to x is at least |v - s| - |x - v| away (s is nearest to v), and
   // ∂Ω is within a cell diagonal of surface voxels.
   const double lower = distance(v, s) - distance(x, v) - cell_diagonal_;
   const double upper = distance(x, s) + cell_diagonal_;
   return {std::max(0.0, lower), upper};
+}
+
+SurfaceOracle::PointFacts SurfaceOracle::facts(const Point4& x) const {
+  PointFacts f;
+  f.label = label_at(x);
+  const std::size_t nearest = nearest_voxel(x);
+  f.surface_voxel = feature_[nearest];
+  std::uint32_t c[4], fc[4];
+  const Point4 v = center_of(static_cast<std::uint32_t>(nearest), c);
+  const Point4 s = center_of(f.surface_voxel, fc);
+  f.lower = std::max(0.0, distance(v, s) - distance(x, v) - cell_diagonal_);  // as above
+  return f;
 }
 
 SurfaceOracle::LabelWeights SurfaceOracle::weights_at(const Point4& x) const {
@@ -320,24 +346,13 @@ SurfaceBracket SurfaceOracle::edge_bracket(const SurfaceBracket& edge, double to
           edge.label_b};
 }
 
-void SurfaceOracle::cfp_starts(const Point4& x, CfpMode mode, double tolerance,
-                               std::vector<SurfaceBracket>& out, bool search_edges,
-                               double lower) const {
+void SurfaceOracle::cfp_starts(const Point4& x, const PointFacts& known, CfpMode mode,
+                               double tolerance, std::vector<SurfaceBracket>& out,
+                               bool search_edges) const {
   // Start: the nearest surface voxel to the voxel nearest x.
-  const Vec4 u = image_.to_index(x);
   const Dims4& d = image_.dims();
-  std::size_t c[4];
-  for (int a = 0; a < 4; ++a) {
-    const double r = std::round(u[a]);
-    c[a] = static_cast<std::size_t>(std::clamp(r, 0.0, double(d[a] - 1)));
-  }
-  std::size_t s = feature_[image_.linear_index(c[0], c[1], c[2], c[3])];
-  std::size_t sc[4];
-  for (int a = 0; a < 4; ++a) {
-    sc[a] = s % d[a];
-    s /= d[a];
-  }
-  const Point4 center = image_.voxel_center(sc[0], sc[1], sc[2], sc[3]);
+  std::uint32_t sc[4];
+  const Point4 center = center_of(known.surface_voxel, sc);
 
   // Candidate surface points: on the ray from x through that voxel (continued a voxel past it),
   // and between the voxel and each face neighbor of another label.
@@ -345,7 +360,7 @@ void SurfaceOracle::cfp_starts(const Point4& x, CfpMode mode, double tolerance,
   candidates.clear();
   // No label changes closer to x than the feature transform's lower bound: rays from x start
   // their walk there (most of a far x's walk was in one label).
-  if (lower < 0) lower = surface_distance_bounds(x).first;
+  const double lower = known.lower;
   const auto ray = [&](const Point4& end) {
     const double length = distance(x, end);
     const Point4 start = lower > 0 && lower < length ? lerp(x, end, lower / length) : x;
@@ -390,7 +405,7 @@ void SurfaceOracle::cfp_starts(const Point4& x, CfpMode mode, double tolerance,
     }
   }
   // Nearest first, each oriented with x's side as a (and inner).
-  const Label x_label = label_at(x);
+  const Label x_label = known.label;
   for (SurfaceBracket& k : candidates)
     if (k.label_b == x_label) std::swap(k.a, k.b), std::swap(k.label_a, k.label_b);
   std::stable_sort(candidates.begin(), candidates.end(), [&](const auto& a, const auto& b) {
@@ -398,13 +413,13 @@ void SurfaceOracle::cfp_starts(const Point4& x, CfpMode mode, double tolerance,
   });
 }
 
-std::optional<SurfaceBracket> SurfaceOracle::closest_surface_bracket(const Point4& x,
-                                                                     double lower) const {
+std::optional<SurfaceBracket> SurfaceOracle::closest_surface_bracket(
+    const Point4& x, const PointFacts& known) const {
   // Every candidate is bracketed coarsely, enough to rank them; pinpoint() narrows the one a
   // caller keeps: most of the ray mode's cost was halving candidates it then dropped.
   thread_local std::vector<SurfaceBracket> starts;
   const double tolerance = kRankTolerance * min_spacing_;
-  cfp_starts(x, CfpMode::ray, tolerance, starts, false, lower);
+  cfp_starts(x, known, CfpMode::ray, tolerance, starts, false);
   if (starts.empty()) return std::nullopt;
   const SurfaceBracket& k = starts.front();
   // A crossing computed on a voxel edge (its ends differ along one axis only; the ray's
@@ -412,7 +427,7 @@ std::optional<SurfaceBracket> SurfaceOracle::closest_surface_bracket(const Point
   int axes = 0;
   for (int a = 0; a < 4; ++a) axes += k.a[a] != k.b[a];
   if (axes == 1 && (label_at(k.a) != k.label_a || label_at(k.b) != k.label_b))
-    cfp_starts(x, CfpMode::ray, tolerance, starts, true, lower);
+    cfp_starts(x, known, CfpMode::ray, tolerance, starts, true);
   return starts.front();
 }
 
@@ -427,7 +442,7 @@ SurfacePoint SurfaceOracle::closest_surface_point(const Point4& x, CfpMode mode)
     return pinpoint(*k);
   }
   std::vector<SurfaceBracket> starts;
-  cfp_starts(x, mode, fine_tolerance(), starts);
+  cfp_starts(x, facts(x), mode, fine_tolerance(), starts);
   if (starts.empty()) return {x, label_at(x), label_at(x)};
   // The closest few starts are worth a descent: the interpolated surface of a voxelized shape
   // is bumpy at the voxel scale, so a single descent can stop on the wrong bump.

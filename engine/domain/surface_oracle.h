@@ -71,11 +71,25 @@ class SurfaceOracle {
   /// nearest surface voxel (never seen on a validated image), returns x with inner == outer:
   /// callers check that before using the point as a surface point.
   SurfacePoint closest_surface_point(const Point4& x, CfpMode mode = CfpMode::descent) const;
+  /// What the oracle reads about a point before any search (the refiner keeps it for every
+  /// circumcenter): its label, the nearest surface voxel to its nearest voxel (by linear
+  /// index), and a lower bound on its distance to ∂Ω from that voxel alone.
+  struct PointFacts {
+    Label label = 0;
+    std::uint32_t surface_voxel = 0;
+    double lower = 0;
+  };
+  PointFacts facts(const Point4& x) const;
+
   /// The ray mode's answer bracketed to kRankTolerance of the smallest spacing (its middle is
   /// within half that of ∂Ω), for callers that often drop it; pinpoint() finishes the one kept.
-  /// Nothing when no crossing is found near the feature voxel. `lower`: the first of
-  /// surface_distance_bounds(x), when the caller has it (computed when negative).
-  std::optional<SurfaceBracket> closest_surface_bracket(const Point4& x, double lower = -1) const;
+  /// Nothing when no crossing is found near the feature voxel.
+  std::optional<SurfaceBracket> closest_surface_bracket(const Point4& x) const {
+    return closest_surface_bracket(x, facts(x));
+  }
+  /// The same, with x's facts already known.
+  std::optional<SurfaceBracket> closest_surface_bracket(const Point4& x,
+                                                        const PointFacts& known) const;
   SurfacePoint pinpoint(const SurfaceBracket& k) const;
 
   /// How closely closest_surface_bracket() brackets its candidates (to rank them, and what it
@@ -118,9 +132,12 @@ class SurfaceOracle {
                                               double tolerance) const;
   // cfp's candidates (see CfpMode) into `out`, nearest to x first, x's side as a. Crossings on
   // voxel edges are computed (edge_bracket), or with `search_edges` found by halving.
-  // `lower` as in closest_surface_bracket().
-  void cfp_starts(const Point4& x, CfpMode mode, double tolerance, std::vector<SurfaceBracket>& out,
-                  bool search_edges = false, double lower = -1) const;
+  void cfp_starts(const Point4& x, const PointFacts& known, CfpMode mode, double tolerance,
+                  std::vector<SurfaceBracket>& out, bool search_edges = false) const;
+  // The nearest voxel to x (clamped to the image), by linear index.
+  std::size_t nearest_voxel(const Point4& x) const;
+  // A voxel's center from its linear index (below 2^32, as in the feature transform).
+  Point4 center_of(std::uint32_t voxel, std::uint32_t coordinates[4]) const;
   // The crossing on the segment between two neighboring voxel centers of different labels,
   // bracketed to `tolerance` where the cut function vanishes (computed, not searched).
   SurfaceBracket edge_bracket(const SurfaceBracket& edge, double tolerance) const;

@@ -65,16 +65,16 @@ Point4 Refiner::clamp_to_box(const Point4& p) const {
   return q;
 }
 
-bool Refiner::ball_meets_surface(const Point4& center, double radius, double lower,
-                                 domain::SurfaceBracket* cfp) const {
-  if (lower >= radius) return false;
+bool Refiner::ball_meets_surface(const CellInfo& info, domain::SurfaceBracket* cfp) const {
+  if (info.surface_lower >= info.radius) return false;
   // The paper's cfp (ray to the nearest surface voxel, then bisection): the descent to the exact
   // closest point costs ten times more and changes little for sampling. Bracketed to 1/32 of a
   // voxel: R1 pinpoints it only when it inserts it.
-  const auto z = oracle_.closest_surface_bracket(center, lower);
+  const auto z = oracle_.closest_surface_bracket(
+      info.center, {info.label, info.surface_voxel, info.surface_lower});
   if (!z) return false;  // no surface point found near the feature voxel
   *cfp = *z;
-  return distance(center, z->middle().point) < radius;
+  return distance(info.center, z->middle().point) < info.radius;
 }
 
 void Refiner::update_info(CellId c) {
@@ -86,9 +86,11 @@ void Refiner::update_info(CellId c) {
   info.center = delaunay::circumcenter(s);
   if (!std::isfinite(info.center[0])) return;
   info.radius = delaunay::circumradius(s, info.center);
-  info.label = oracle_.label_at(info.center);
-  // Asked by R1's filter in quick_rule, then by the cfp: computed once per cell.
-  info.surface_lower = oracle_.surface_distance_bounds(info.center).first;
+  // What R1's filter in quick_rule, then the cfp, read about the center: once per cell.
+  const domain::SurfaceOracle::PointFacts facts = oracle_.facts(info.center);
+  info.label = facts.label;
+  info.surface_lower = facts.lower;
+  info.surface_voxel = facts.surface_voxel;
   info.finite = true;
 }
 
@@ -149,7 +151,7 @@ Refiner::Rule Refiner::classify(Worker& w, CellId c, Point4* point, VertexKind* 
   // surface point in it can be an R1 point, and r < Δ rules out R2; skip the cfp.
   domain::SurfaceBracket z;
   if ((r >= params_.delta || !feature_within(center, params_.delta - r)) &&
-      ball_meets_surface(center, r, info.surface_lower, &z)) {
+      ball_meets_surface(info, &z)) {
     if (!feature_within(z.middle().point, params_.delta)) {
       w.r1_sample = z.middle().point;
       *point = oracle_.pinpoint(z).point;
@@ -432,6 +434,7 @@ Refiner::Outcome Refiner::process(Worker& w, const Candidate& k) {
 }
 
 void Refiner::drain(ProgressSink* sink) {
+  pinches_current_ = false;
   const auto t0 = std::chrono::steady_clock::now();
   if (params_.threads > 1)
     drain_parallel(sink);
@@ -497,14 +500,14 @@ RefineResult Refiner::run(ProgressSink* sink) {
   // move has a free vertex), those free vertices go, the rules run again, and so on, a few times.
   RefineResult result;
   result.relabeled = relabel_pinches();
-  for (int round = 0; round < kUnpinchRounds && count_pinches(nullptr) > 0; ++round) {
+  for (int round = 0; round < kUnpinchRounds && !current_pinches().empty(); ++round) {
     if (remove_free_vertices_at_pinches() == 0) break;
     drain(sink);
     result.relabeled += relabel_pinches();
   }
   report(sink, Phase::extracting, true);
   result.mesh = extract(result.warnings);
-  if (const std::size_t pinches = count_pinches(nullptr)) {
+  if (const std::size_t pinches = current_pinches().size()) {
     std::ostringstream s;
     s << pinches << " boundary triangles are pinched (in four or more boundary tetrahedra of one "
       << "label) where labels meet; a smaller delta resolves more of them";

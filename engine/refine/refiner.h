@@ -100,7 +100,8 @@ class Refiner {
   struct CellInfo {
     Point4 center;
     double radius = 0;
-    double surface_lower = 0;  // a lower bound on the distance from center to ∂Ω
+    double surface_lower = 0;         // a lower bound on the distance from center to ∂Ω
+    std::uint32_t surface_voxel = 0;  // where the cfp of center starts (PointFacts)
     domain::Label label = 0;
     bool finite = false;  // false for infinite or flat pentatopes
   };
@@ -143,10 +144,8 @@ class Refiner {
     std::shared_lock lock(features_mutex_);
     return features_.any_within(p, r);
   }
-  // Whether the ball meets ∂Ω, judged at cfp(center); `lower` bounds the distance from center
-  // to ∂Ω from below.
-  bool ball_meets_surface(const Point4& center, double radius, double lower,
-                          domain::SurfaceBracket* cfp) const;
+  // Whether the pentatope's circumball meets ∂Ω, judged at the cfp of its center.
+  bool ball_meets_surface(const CellInfo& info, domain::SurfaceBracket* cfp) const;
   Point4 clamp_to_box(const Point4& p) const;
   // Applies the rules until none does: on this thread, or on RefineParams::threads workers.
   void drain(ProgressSink* sink);
@@ -199,6 +198,9 @@ class Refiner {
   // Closes the pinches the repair left by moving a few pentatopes, all of whose vertices lie on
   // ∂Ω, to a neighboring label (refiner_relabel.cpp); returns how many pentatopes moved.
   std::size_t relabel_pinches();
+  // The pinches now: counted again only when something changed since the last time (a full
+  // count costs as much as a twentieth of the ventricle's refinement).
+  const std::vector<PinchedTriangle>& current_pinches();
   // Removes the free vertices of the pentatopes around the pinched triangles; returns how many.
   std::size_t remove_free_vertices_at_pinches();
   struct Move {
@@ -254,6 +256,8 @@ class Refiner {
   std::vector<delaunay::CellId> touched_;       // since the last pinch count
   std::vector<PinchedTriangle> known_pinches_;  // found by the last pinch count
   std::vector<bool> shifted_;  // by cell: moved by relabel_pinches() without lowering the count
+  std::vector<PinchedTriangle> current_pinches_;  // valid while pinches_current_
+  bool pinches_current_ = false;  // no pentatope or label changed since they were counted
   Progress progress_;
   std::chrono::steady_clock::time_point start_, last_report_;
   double rules_seconds_ = 0;

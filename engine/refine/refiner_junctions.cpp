@@ -316,6 +316,7 @@ std::size_t Refiner::recount_pinches(std::vector<PinchedTriangle>* pinched) {
 }
 
 std::size_t Refiner::repair_pinches(double min_spacing) {
+  pinches_current_ = false;
   std::vector<PinchedTriangle> pinched;
   // The first count scans everything; later ones look only where pentatopes changed.
   const std::size_t found = tracking_ ? recount_pinches(&pinched) : count_pinches(&pinched);

@@ -156,8 +156,8 @@ std::size_t Refiner::relabel_pinches() {
   // with the ways to join the labels there; one that only shifts a pinch is taken alone as a
   // last resort, moving only pentatopes that never shifted (so the shifting ends).
   for (int round = 0; round < kRelabelRounds; ++round) {
-    std::vector<PinchedTriangle> pinched;
-    if (count_pinches(&pinched) == 0) break;
+    const std::vector<PinchedTriangle> pinched = current_pinches();
+    if (pinched.empty()) break;
     std::size_t moved_now = 0;
     for (const PinchedTriangle& p : pinched) {
       MoveSearch search;
@@ -185,16 +185,25 @@ std::size_t Refiner::relabel_pinches() {
     }
     moved += moved_now;
     if (moved_now == 0) break;
+    pinches_current_ = false;
   }
   return moved;
+}
+
+const std::vector<Refiner::PinchedTriangle>& Refiner::current_pinches() {
+  if (!pinches_current_) {
+    current_pinches_.clear();
+    count_pinches(&current_pinches_);
+    pinches_current_ = true;
+  }
+  return current_pinches_;
 }
 
 std::size_t Refiner::remove_free_vertices_at_pinches() {
   // The free vertices of the pentatopes around each pinched triangle: they stop the
   // relabeling there (a moved pentatope would put them on the boundary).
   const auto& st = tri_.store();
-  std::vector<PinchedTriangle> pinched;
-  count_pinches(&pinched);
+  const std::vector<PinchedTriangle> pinched = current_pinches();
   std::vector<mesh4d::VertexId> free;
   std::vector<CellId> cycle;
   std::vector<int> crossed;
@@ -213,6 +222,7 @@ std::size_t Refiner::remove_free_vertices_at_pinches() {
     created.clear();
     if (!tri_.remove(v, &created)) continue;
     ++removed;
+    pinches_current_ = false;
     std::vector<CellId> live;
     for (CellId c : created)
       if (st.is_live(c)) live.push_back(c);
