@@ -181,24 +181,34 @@ void Refiner::link_cycle(CellId start, const std::array<VertexId, 3>& t, std::ve
 
 void Refiner::pinches_at(CellId start, const std::array<VertexId, 3>& t,
                          std::vector<PinchedTriangle>* pinched) const {
-  // A region's boundary facets at t are its label changes along the cycle around t.
+  // A region's boundary facets at t are its label changes along the cycle around t. Asked for
+  // every triangle the repair's recount looks at, nearly all unpinched: the cycle and its
+  // labels go into reused scratch, and a label's facets are listed only when it has more than
+  // two of them.
   const auto& st = tri_.store();
-  std::vector<CellId> cycle;
-  std::vector<int> crossed;  // facet of cycle[i] shared with cycle[i + 1]
+  thread_local std::vector<CellId> cycle;
+  thread_local std::vector<int> crossed;  // facet of cycle[i] shared with cycle[i + 1]
+  thread_local std::vector<domain::Label> labels, distinct;
   link_cycle(start, t, cycle, crossed);
-  const auto label_of = [&](CellId c) { return output_label(c); };
-  std::vector<domain::Label> labels;
-  for (CellId c : cycle)
-    if (const domain::Label l = label_of(c);
-        l != 0 && std::find(labels.begin(), labels.end(), l) == labels.end())
-      labels.push_back(l);
   const std::size_t n = cycle.size();
-  for (const domain::Label l : labels) {
+  labels.resize(n);
+  distinct.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    const domain::Label l = labels[i] = output_label(cycle[i]);
+    if (l != 0 && std::find(distinct.begin(), distinct.end(), l) == distinct.end())
+      distinct.push_back(l);
+  }
+  for (const domain::Label l : distinct) {
+    int changes = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      changes += (labels[i] == l) != (labels[(i + 1) % n] == l);
+    if (changes <= 2) continue;
     PinchedTriangle p{t, {}};
     for (std::size_t i = 0; i < n; ++i) {
       const CellId a = cycle[i], b = cycle[(i + 1) % n];
-      if ((label_of(a) == l) == (label_of(b) == l)) continue;
-      if (label_of(a) == l) {
+      const bool a_in = labels[i] == l, b_in = labels[(i + 1) % n] == l;
+      if (a_in == b_in) continue;
+      if (a_in) {
         p.facets.emplace_back(a, crossed[i]);
       } else {
         int back = 0;
@@ -206,7 +216,7 @@ void Refiner::pinches_at(CellId start, const std::array<VertexId, 3>& t,
         p.facets.emplace_back(b, back);
       }
     }
-    if (p.facets.size() > 2) pinched->push_back(std::move(p));
+    pinched->push_back(std::move(p));
   }
 }
 
