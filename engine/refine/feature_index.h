@@ -31,6 +31,12 @@ class FeatureIndex {
 
   std::size_t size() const { return points_.size(); }
 
+  /// A partial any_within(): only the points in p's own grid cell are measured. True means
+  /// some point lies within r of p; false may miss one (for shortcuts that only save work).
+  bool any_within_own_cell(const Point4& p, double r) const {
+    return any_in_cell(cell_of(p), p, r * r);
+  }
+
   /// Whether some added point lies strictly within distance r (≤ the cell size) of p.
   bool any_within(const Point4& p, double r) const {
     // Only the grid cells that the box around the ball overlaps: 1 to 16 of them (of the 81

@@ -139,10 +139,11 @@ class Refiner {
   // The free vertices of the cavity closer than Δ to p (R5 removes them), into w.near; in a
   // parallel phase their stars are claimed too. False on a conflict.
   bool claim_free_vertices_near(Worker& w, const Point4& p);
-  // Whether a feature vertex lies within r of p (the index is shared by the workers).
-  bool feature_within(const Point4& p, double r) const {
+  // Whether a feature vertex lies within r of p (the index is shared by the workers). With
+  // `own_cell_only`, only those in p's cell of the index: a true answer, or perhaps a missed one.
+  bool feature_within(const Point4& p, double r, bool own_cell_only = false) const {
     std::shared_lock lock(features_mutex_);
-    return features_.any_within(p, r);
+    return own_cell_only ? features_.any_within_own_cell(p, r) : features_.any_within(p, r);
   }
   // Whether the pentatope's circumball meets ∂Ω, judged at the cfp of its center.
   bool ball_meets_surface(const CellInfo& info, domain::SurfaceBracket* cfp) const;

@@ -200,8 +200,7 @@ void Refiner::pinches_at(CellId start, const std::array<VertexId, 3>& t,
   }
   for (const domain::Label l : distinct) {
     int changes = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      changes += (labels[i] == l) != (labels[(i + 1) % n] == l);
+    for (std::size_t i = 0; i < n; ++i) changes += (labels[i] == l) != (labels[(i + 1) % n] == l);
     if (changes <= 2) continue;
     PinchedTriangle p{t, {}};
     for (std::size_t i = 0; i < n; ++i) {
