@@ -486,8 +486,10 @@ RefineResult Refiner::run(ProgressSink* sink) {
   // the short edges of the points squeezed in set off the radius-edge rule around them: on the
   // ventricle the repair then doubled the mesh after the rules, for the same fidelity.)
   double min_spacing = 0.5 * params_.delta;
+  bool counted_since = false;  // the repair's last count is still current
   for (int round = 0; round < kRepairRounds && min_spacing >= params_.delta / 16;) {
     const std::size_t inserted = repair_pinches(min_spacing);
+    counted_since = inserted == 0;
     if (inserted == 0) {
       // Nothing went in since the repair counted (the same count a full scan gives: checked on
       // the ventricle and the patients), so its list says whether pinches are left.
@@ -498,6 +500,7 @@ RefineResult Refiner::run(ProgressSink* sink) {
     ++round;
     drain(sink);
   }
+  if (counted_since) set_current_pinches(known_pinches_);
 
   // What the repair leaves, relabeling closes; where it cannot (a pentatope that would have to
   // move has a free vertex), those free vertices go, the rules run again, and so on, a few times.

@@ -202,6 +202,10 @@ class Refiner {
   // The pinches now: counted again only when something changed since the last time (a full
   // count costs as much as a twentieth of the ventricle's refinement).
   const std::vector<PinchedTriangle>& current_pinches();
+  // Makes `pinches` the current list, in canonical order: by triangle, then label, each one's
+  // facets sorted. How a list was found (a full count, the repair's recount, an update after
+  // relabeling) then changes nothing downstream.
+  void set_current_pinches(std::vector<PinchedTriangle> pinches);
   // Removes the free vertices of the pentatopes around the pinched triangles; returns how many.
   std::size_t remove_free_vertices_at_pinches();
   struct Move {
