@@ -29,18 +29,27 @@ constexpr int kRelabelRounds = 32;
 constexpr int kMoveDepth = 3;  // sets of moves at one pinch: up to three joins
 constexpr long kNotAllowed = std::numeric_limits<long>::min();
 
+using Triangle = std::array<mesh4d::VertexId, 3>;
+
+// The ten triangles of a pentatope, each with its vertices sorted.
+std::array<Triangle, 10> triangles_of(const mesh4d::VertexId (&vertices)[5]) {
+  std::array<mesh4d::VertexId, 5> v;
+  std::copy_n(vertices, 5, v.begin());
+  std::sort(v.begin(), v.end());
+  std::array<Triangle, 10> out;
+  int k = 0;
+  for (int a = 0; a < 5; ++a)
+    for (int b = a + 1; b < 5; ++b)
+      for (int d = b + 1; d < 5; ++d) out[k++] = {v[a], v[b], v[d]};
+  return out;
+}
+
 }  // namespace
 
 std::vector<Refiner::PinchedTriangle> Refiner::pinches_on(const std::vector<CellId>& cells) const {
-  std::vector<std::pair<std::array<mesh4d::VertexId, 3>, CellId>> triangles;
-  for (CellId c : cells) {
-    std::array<mesh4d::VertexId, 5> v;
-    std::copy_n(tri_.store().cell(c).v, 5, v.begin());
-    std::sort(v.begin(), v.end());
-    for (int a = 0; a < 5; ++a)
-      for (int b = a + 1; b < 5; ++b)
-        for (int d = b + 1; d < 5; ++d) triangles.push_back({{v[a], v[b], v[d]}, c});
-  }
+  std::vector<std::pair<Triangle, CellId>> triangles;
+  for (CellId c : cells)
+    for (const Triangle& t : triangles_of(tri_.store().cell(c).v)) triangles.push_back({t, c});
   std::sort(triangles.begin(), triangles.end());
   std::vector<PinchedTriangle> pinched;
   for (std::size_t i = 0; i < triangles.size(); ++i)
@@ -193,15 +202,9 @@ std::size_t Refiner::relabel_pinches() {
     std::vector<CellId> cells(moved_cells.begin(), moved_cells.end());
     std::sort(cells.begin(), cells.end());
     cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-    std::vector<std::array<mesh4d::VertexId, 3>> changed;
-    for (CellId c : cells) {
-      std::array<mesh4d::VertexId, 5> v;
-      std::copy_n(tri_.store().cell(c).v, 5, v.begin());
-      std::sort(v.begin(), v.end());
-      for (int a = 0; a < 5; ++a)
-        for (int b = a + 1; b < 5; ++b)
-          for (int d = b + 1; d < 5; ++d) changed.push_back({v[a], v[b], v[d]});
-    }
+    std::vector<Triangle> changed;
+    for (CellId c : cells)
+      for (const Triangle& t : triangles_of(tri_.store().cell(c).v)) changed.push_back(t);
     std::sort(changed.begin(), changed.end());
     std::vector<PinchedTriangle> updated = pinches_on(cells);
     for (const PinchedTriangle& p : pinched)
