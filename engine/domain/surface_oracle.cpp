@@ -38,12 +38,13 @@ SurfaceOracle::SurfaceOracle(const LabelImage4& image)
     offset_[labels[r]] = kMaxLabelOffset * static_cast<double>(r) / (labels.size() - 1);
 }
 
-std::size_t SurfaceOracle::nearest_voxel(const Point4& x) const {
+std::size_t SurfaceOracle::nearest_voxel(const Point4& x, Point4* center) const {
   const Vec4 u = image_.to_index(x);
   const Dims4& d = image_.dims();
   std::size_t c[4];
   for (int a = 0; a < 4; ++a)
     c[a] = static_cast<std::size_t>(std::clamp(std::round(u[a]), 0.0, double(d[a] - 1)));
+  *center = image_.voxel_center(c[0], c[1], c[2], c[3]);
   return image_.linear_index(c[0], c[1], c[2], c[3]);
 }
 
@@ -59,9 +60,9 @@ Point4 SurfaceOracle::center_of(std::uint32_t voxel, std::uint32_t coordinates[4
 }
 
 std::pair<double, double> SurfaceOracle::surface_distance_bounds(const Point4& x) const {
-  const std::size_t nearest = nearest_voxel(x);
-  std::uint32_t c[4], fc[4];
-  const Point4 v = center_of(static_cast<std::uint32_t>(nearest), c);
+  Point4 v;
+  const std::size_t nearest = nearest_voxel(x, &v);
+  std::uint32_t fc[4];
   const Point4 s = center_of(feature_[nearest], fc);
   // The nearest surface voxel to x is at least |v - s| - |x - v| away (s is nearest to v), and
   // ∂Ω is within a cell diagonal of surface voxels.
@@ -73,10 +74,10 @@ std::pair<double, double> SurfaceOracle::surface_distance_bounds(const Point4& x
 SurfaceOracle::PointFacts SurfaceOracle::facts(const Point4& x) const {
   PointFacts f;
   f.label = label_at(x);
-  const std::size_t nearest = nearest_voxel(x);
+  Point4 v;
+  const std::size_t nearest = nearest_voxel(x, &v);
   f.surface_voxel = feature_[nearest];
-  std::uint32_t c[4], fc[4];
-  const Point4 v = center_of(static_cast<std::uint32_t>(nearest), c);
+  std::uint32_t fc[4];
   const Point4 s = center_of(f.surface_voxel, fc);
   f.lower = std::max(0.0, distance(v, s) - distance(x, v) - cell_diagonal_);  // as above
   return f;

@@ -134,8 +134,8 @@ class SurfaceOracle {
   // voxel edges are computed (edge_bracket), or with `search_edges` found by halving.
   void cfp_starts(const Point4& x, const PointFacts& known, CfpMode mode, double tolerance,
                   std::vector<SurfaceBracket>& out, bool search_edges = false) const;
-  // The nearest voxel to x (clamped to the image), by linear index.
-  std::size_t nearest_voxel(const Point4& x) const;
+  // The nearest voxel to x (clamped to the image), by linear index, and its center.
+  std::size_t nearest_voxel(const Point4& x, Point4* center) const;
   // A voxel's center from its linear index (below 2^32, as in the feature transform).
   Point4 center_of(std::uint32_t voxel, std::uint32_t coordinates[4]) const;
   // The crossing on the segment between two neighboring voxel centers of different labels,

@@ -193,12 +193,13 @@ bool Refiner::find_restricted_facet(CellId c, Point4* surface_center,
   const auto& cell = st.cell(c);
   const CellInfo& own = info_[c];
   for (int i = 0; i < 5; ++i) {
+    // The neighbor's label first: most facets are not restricted, and it is one read.
+    const CellId n = cell.n[i];
+    if (st.is_infinite(n) || !info_[n].finite || info_[n].label == own.label) continue;
     bool all_feature = true;
     for (int k = 0; k < 5; ++k)
       if (k != i) all_feature &= st.vertex(cell.v[k]).kind == VertexKind::feature;
     if (all_feature) continue;
-    const CellId n = cell.n[i];
-    if (st.is_infinite(n) || !info_[n].finite || info_[n].label == own.label) continue;
     const auto z = oracle_.first_crossing(own.center, info_[n].center);
     if (!z) continue;
     *surface_center = z->point;
