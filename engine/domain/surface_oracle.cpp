@@ -282,8 +282,9 @@ std::optional<SurfacePoint> SurfaceOracle::first_crossing(const Point4& a, const
 }
 
 std::optional<SurfaceBracket> SurfaceOracle::first_bracket(const Point4& a, const Point4& b,
-                                                           double tolerance) const {
-  const Label la = label_at(a);
+                                                           double tolerance,
+                                                           const Label* label_a) const {
+  const Label la = label_a ? *label_a : label_at(a);  // the caller may know it
   // Only the part of the segment within a cell of the voxel centers can see a label change:
   // beyond, every point is background. Clipping also keeps the walk short when an end is far
   // away (the circumcenter of a nearly flat pentatope).
@@ -365,7 +366,8 @@ void SurfaceOracle::cfp_starts(const Point4& x, const PointFacts& known, CfpMode
   const auto ray = [&](const Point4& end) {
     const double length = distance(x, end);
     const Point4 start = lower > 0 && lower < length ? lerp(x, end, lower / length) : x;
-    return first_bracket(start, end, tolerance);
+    // From x itself (x close to ∂Ω: the bound is 0), its label is known.
+    return first_bracket(start, end, tolerance, start == x ? &known.label : nullptr);
   };
   const double dist = distance(x, center);
   if (dist > 1e-9 * voxel_size_) {

@@ -128,8 +128,8 @@ class SurfaceOracle {
   // Halves the bracket until it is shorter than `tolerance` (or the spacing of doubles).
   SurfaceBracket narrow(SurfaceBracket k, double tolerance) const;
   // The first label change from a towards b, bracketed to within `tolerance`.
-  std::optional<SurfaceBracket> first_bracket(const Point4& a, const Point4& b,
-                                              double tolerance) const;
+  std::optional<SurfaceBracket> first_bracket(const Point4& a, const Point4& b, double tolerance,
+                                              const Label* label_a = nullptr) const;
   // cfp's candidates (see CfpMode) into `out`, nearest to x first, x's side as a. Crossings on
   // voxel edges are computed (edge_bracket), or with `search_edges` found by halving.
   void cfp_starts(const Point4& x, const PointFacts& known, CfpMode mode, double tolerance,

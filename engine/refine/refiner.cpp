@@ -69,7 +69,9 @@ bool Refiner::ball_meets_surface(const CellInfo& info, domain::SurfaceBracket* c
   if (info.surface_lower >= info.radius) return false;
   // The paper's cfp (ray to the nearest surface voxel, then bisection): the descent to the exact
   // closest point costs ten times more and changes little for sampling. Bracketed to 1/32 of a
-  // voxel: R1 pinpoints it only when it inserts it.
+  // voxel: R1 pinpoints it only when it inserts it. info.label is the label at the center here:
+  // relabeling (the only other writer) runs after the rules, and the pentatopes it moves are
+  // never queued again (only new pentatopes are).
   const auto z = oracle_.closest_surface_bracket(
       info.center, {info.label, info.surface_voxel, info.surface_lower});
   if (!z) return false;  // no surface point found near the feature voxel
