@@ -5,9 +5,9 @@
 // a sharp junction (the time caps, the valve plane), inserting more surface points there does
 // not converge: each new point makes new small pentatopes whose circumcenters again fall on
 // alternating sides. Moving the pentatopes of the shorter arcs (or of the gaps between them) to
-// a neighboring label joins the arcs. A move is allowed only when every facet of the moved
-// pentatope that then separates two labels has its four vertices on ∂Ω (so every boundary
-// tetrahedron still does), and a pentatope that enters the output meets the quality bounds; the
+// a neighboring label joins the arcs. A move is allowed only when the moved pentatope has its
+// five vertices on ∂Ω (so every boundary tetrahedron still does, now and after later changes
+// around it), and a pentatope that enters the output meets the quality bounds; the
 // triangulation itself does not change. The moved pentatopes are the exception to "the label
 // of a pentatope is the label at its circumcenter"; RefineResult::relabeled counts them.
 #include <algorithm>
@@ -84,17 +84,19 @@ std::vector<std::vector<Refiner::Move>> Refiner::relabel_options(const PinchedTr
 }
 
 bool Refiner::movable(CellId c, Label from) const {
-  // With the move applied: each facet of c that separates two labels has its four vertices on
-  // ∂Ω, and a pentatope that enters the output (from the background) meets the quality bounds
-  // that R3 and R4 hold inside.
+  // All five vertices on ∂Ω, not only those of the facets that separate labels once c moves: a
+  // facet of c between equal labels now may separate them later, when the unpinch loop's
+  // drain replaces the neighbor across it by one of the other label, and R5 cannot see that
+  // facet (it looks for ∂Ω between the circumcenters, and c's center still has the neighbor's
+  // label); with a free vertex, that facet would stay on the boundary. (A parallel run on the
+  // merging blobs once ended with a free boundary vertex; this is one way it can happen. Every
+  // bench row relabels exactly the same pentatopes with this test as with the facets' one.) A
+  // pentatope that enters the output (from the background) also meets the quality bounds that
+  // R3 and R4 hold inside.
   const auto& st = tri_.store();
   if (st.is_infinite(c) || !info_[c].finite) return false;
-  const auto& cell = st.cell(c);
-  for (int i = 0; i < 5; ++i) {
-    if (output_label(cell.n[i]) == info_[c].label) continue;
-    for (int k = 0; k < 5; ++k)
-      if (k != i && st.vertex(cell.v[k]).kind != delaunay::VertexKind::feature) return false;
-  }
+  for (mesh4d::VertexId v : st.cell(c).v)
+    if (st.vertex(v).kind != delaunay::VertexKind::feature) return false;
   if (from != 0 || info_[c].label == 0) return true;
   const auto s = simplex_of(c);
   return info_[c].radius / delaunay::shortest_edge(s) < params_.radius_edge_bound &&
