@@ -59,18 +59,6 @@ Point4 SurfaceOracle::center_of(std::uint32_t voxel, std::uint32_t coordinates[4
   return image_.voxel_center(coordinates[0], coordinates[1], coordinates[2], coordinates[3]);
 }
 
-std::pair<double, double> SurfaceOracle::surface_distance_bounds(const Point4& x) const {
-  Point4 v;
-  const std::size_t nearest = nearest_voxel(x, &v);
-  std::uint32_t fc[4];
-  const Point4 s = center_of(feature_[nearest], fc);
-  // The nearest surface voxel to x is at least |v - s| - |x - v| away (s is nearest to v), and
-  // ∂Ω is within a cell diagonal of surface voxels.
-  const double lower = distance(v, s) - distance(x, v) - cell_diagonal_;
-  const double upper = distance(x, s) + cell_diagonal_;
-  return {std::max(0.0, lower), upper};
-}
-
 SurfaceOracle::PointFacts SurfaceOracle::facts(const Point4& x) const {
   PointFacts f;
   f.label = label_at(x);
@@ -79,7 +67,9 @@ SurfaceOracle::PointFacts SurfaceOracle::facts(const Point4& x) const {
   f.surface_voxel = feature_[nearest];
   std::uint32_t fc[4];
   const Point4 s = center_of(f.surface_voxel, fc);
-  f.lower = std::max(0.0, distance(v, s) - distance(x, v) - cell_diagonal_);  // as above
+  // The nearest surface voxel to x is at least |v - s| - |x - v| away (s is nearest to v), and
+  // every point of ∂Ω lies within one voxel-cell diagonal of a surface voxel.
+  f.lower = std::max(0.0, distance(v, s) - distance(x, v) - cell_diagonal_);
   return f;
 }
 

@@ -96,10 +96,6 @@ class SurfaceOracle {
   /// returns), in units of the smallest spacing.
   static constexpr double kRankTolerance = 1.0 / 32;
 
-  /// Cheap bounds on the distance from x to ∂Ω, from the feature transform alone (no search):
-  /// {lower, upper}. Every point of ∂Ω lies within one voxel-cell diagonal of a surface voxel.
-  std::pair<double, double> surface_distance_bounds(const Point4& x) const;
-
   /// Bytes held by the oracle (the feature transform).
   std::size_t memory_bytes() const {
     return feature_.size() * sizeof(std::uint32_t) + uniform_.memory_bytes();

@@ -201,14 +201,13 @@ std::size_t Refiner::relabel_pinches() {
     // Moves change the cycles of their pentatopes' triangles only: the pinches elsewhere stay,
     // and those triangles are looked at again (a full count per round cost up to a twelfth of a
     // patient's refinement).
-    std::vector<CellId> cells(moved_cells.begin(), moved_cells.end());
-    std::sort(cells.begin(), cells.end());
-    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    std::sort(moved_cells.begin(), moved_cells.end());
+    moved_cells.erase(std::unique(moved_cells.begin(), moved_cells.end()), moved_cells.end());
     std::vector<Triangle> changed;
-    for (CellId c : cells)
+    for (CellId c : moved_cells)
       for (const Triangle& t : triangles_of(tri_.store().cell(c).v)) changed.push_back(t);
     std::sort(changed.begin(), changed.end());
-    std::vector<PinchedTriangle> updated = pinches_on(cells);
+    std::vector<PinchedTriangle> updated = pinches_on(moved_cells);
     for (const PinchedTriangle& p : pinched)
       if (!std::binary_search(changed.begin(), changed.end(), p.triangle)) updated.push_back(p);
     set_current_pinches(std::move(updated));
