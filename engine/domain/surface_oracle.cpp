@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "domain/feature_transform.h"
 
@@ -272,8 +273,8 @@ std::optional<SurfacePoint> SurfaceOracle::first_crossing(const Point4& a, const
 }
 
 std::optional<SurfaceBracket> SurfaceOracle::first_bracket(const Point4& a, const Point4& b,
-                                                           double tolerance,
-                                                           const Label* label_a) const {
+                                                           double tolerance, const Label* label_a,
+                                                           const GiveUp* give_up) const {
   const Label la = label_a ? *label_a : label_at(a);  // the caller may know it
   // Only the part of the segment within a cell of the voxel centers can see a label change:
   // beyond, every point is background. Clipping also keeps the walk short when an end is far
@@ -305,6 +306,7 @@ std::optional<SurfaceBracket> SurfaceOracle::first_bracket(const Point4& a, cons
   for (int i = 1; i <= steps; ++i) {
     const Point4 p = lerp(start, end, double(i) / steps);
     if (const Label lp = label_at(p); lp != la) return narrow({previous, p, la, lp}, tolerance);
+    if (give_up && distance(give_up->from, p) > give_up->distance) return std::nullopt;
     previous = p;
   }
   return std::nullopt;
@@ -338,33 +340,11 @@ SurfaceBracket SurfaceOracle::edge_bracket(const SurfaceBracket& edge, double to
           edge.label_b};
 }
 
-void SurfaceOracle::cfp_starts(const Point4& x, const PointFacts& known, CfpMode mode,
-                               double tolerance, std::vector<SurfaceBracket>& out,
-                               bool search_edges) const {
-  // Start: the nearest surface voxel to the voxel nearest x.
+int SurfaceOracle::voxel_edges(const std::uint32_t sc[4], const Point4& center,
+                               SurfaceBracket out[8]) const {
   const Dims4& d = image_.dims();
-  std::uint32_t sc[4];
-  const Point4 center = center_of(known.surface_voxel, sc);
-
-  // Candidate surface points: on the ray from x through that voxel (continued a voxel past it),
-  // and between the voxel and each face neighbor of another label.
-  std::vector<SurfaceBracket>& candidates = out;
-  candidates.clear();
-  // No label changes closer to x than the feature transform's lower bound: rays from x start
-  // their walk there (most of a far x's walk was in one label).
-  const double lower = known.lower;
-  const auto ray = [&](const Point4& end) {
-    const double length = distance(x, end);
-    const Point4 start = lower > 0 && lower < length ? lerp(x, end, lower / length) : x;
-    // From x itself (x close to ∂Ω: the bound is 0), its label is known.
-    return first_bracket(start, end, tolerance, start == x ? &known.label : nullptr);
-  };
-  const double dist = distance(x, center);
-  if (dist > 1e-9 * voxel_size_) {
-    const double beyond = (dist + 1.5 * voxel_size_) / dist;
-    if (auto k = ray(lerp(x, center, beyond))) candidates.push_back(*k);
-  }
   const Label own = image_.at(image_.linear_index(sc[0], sc[1], sc[2], sc[3]));
+  int count = 0;
   for (int a = 0; a < 4; ++a)
     for (int side = -1; side <= 1; side += 2) {
       std::size_t nc[4] = {sc[0], sc[1], sc[2], sc[3]};
@@ -374,13 +354,88 @@ void SurfaceOracle::cfp_starts(const Point4& x, const PointFacts& known, CfpMode
       if (other == own) continue;
       Point4 n = center;
       n[a] += side * image_.spacing()[a];
-      const SurfaceBracket edge{center, n, own, other};
-      candidates.push_back(search_edges ? narrow(edge, tolerance) : edge_bracket(edge, tolerance));
+      out[count++] = {center, n, own, other};
     }
+  return count;
+}
+
+bool SurfaceOracle::cfp_candidates(const Point4& x, const PointFacts& known, CfpMode mode,
+                                   double tolerance, std::vector<SurfaceBracket>& out,
+                                   bool search_edges, const Dismissal* dismissal) const {
+  // Start: the nearest surface voxel to the voxel nearest x.
+  const Dims4& d = image_.dims();
+  std::uint32_t sc[4];
+  const Point4 center = center_of(known.surface_voxel, sc);
+
+  // Candidate surface points: on the ray from x through that voxel (continued a voxel past it),
+  // and between the voxel and each face neighbor of another label.
+  std::vector<SurfaceBracket>& candidates = out;
+  candidates.clear();
+  SurfaceBracket edges[8];
+  const int edge_count = voxel_edges(sc, center, edges);
+  for (int i = 0; i < edge_count; ++i)
+    edges[i] = search_edges ? narrow(edges[i], tolerance) : edge_bracket(edges[i], tolerance);
+  // A dismissal is asked about where the candidates can lie, first before the ray's walk, then
+  // before its crossing is halved. An edge's crossing is edge_bracket's middle, or where a
+  // search finds it when rounding put that outside its bracket: the cut function is linear
+  // along the edge (only its two voxels weigh), so within far less than the bracket's length
+  // of it; edge brackets are asked about three times as long. A ray's crossing lies between
+  // where its walk starts and ends (clipping to the image only shortens it), and a bracket's
+  // middle between its ends, also after more halving. The ray mode's fallback below needs no
+  // edges: with none, nothing is dismissed.
+  bool edges_dropped = dismissal && edge_count > 0;
+  for (int i = 0; i < edge_count && edges_dropped; ++i)
+    edges_dropped =
+        dismissal->drops(lerp(edges[i].a, edges[i].b, -1), lerp(edges[i].a, edges[i].b, 2));
+  // The ray's crossing is ranked by its bracket's middle, which lies beyond the walk's last
+  // sample of x's label: once a sample is farther from x than the nearest edge crossing (in
+  // search_edges mode none is known), the ray cannot win and its walk stops there (ties go to
+  // the ray). Its crossing matters only that near: that much of the ray is what a dismissal
+  // is asked about.
+  double nearest_edge = std::numeric_limits<double>::infinity();
+  if (mode == CfpMode::ray && !search_edges && ray_give_up_)
+    for (int i = 0; i < edge_count; ++i)
+      nearest_edge = std::min(nearest_edge, distance(x, edges[i].middle().point));
+  const GiveUp give_up{x, nearest_edge * (1 + 1e-9)};
+  // No label changes closer to x than the feature transform's lower bound: rays from x start
+  // their walk there (most of a far x's walk was in one label).
+  const double lower = known.lower;
+  const double dist = distance(x, center);
+  if (dist > 1e-9 * voxel_size_) {
+    const Point4 end = lerp(x, center, (dist + 1.5 * voxel_size_) / dist);
+    const double length = distance(x, end);
+    const Point4 start = lower > 0 && lower < length ? lerp(x, end, lower / length) : x;
+    // Its crossing lies beyond `lower`.
+    const bool ray_loses = give_up.distance <= lower;
+    if (edges_dropped &&
+        (ray_loses ||
+         dismissal->drops(
+             start, give_up.distance < length ? lerp(x, end, give_up.distance / length) : end)))
+      return false;
+    // From x itself (x close to ∂Ω: the bound is 0), its label is known. Halving the walk's
+    // bracket later in the same steps gives the same bracket.
+    auto k = ray_loses ? std::nullopt
+                       : first_bracket(
+                             start, end,
+                             edges_dropped ? std::numeric_limits<double>::infinity() : tolerance,
+                             start == x ? &known.label : nullptr, &give_up);
+    if (k && edges_dropped) {
+      if (dismissal->drops(k->a, k->b)) return false;
+      *k = narrow(*k, tolerance);
+    }
+    if (k) candidates.push_back(*k);
+  }
+  if (edges_dropped && candidates.empty()) return false;
+  candidates.insert(candidates.end(), edges, edges + edge_count);
   if (mode == CfpMode::descent || candidates.empty()) {
     // More starts: rays from x through the surface voxels around the nearest one (the zero set
     // near x is bumpy, and the closest bump need not be the one the nearest voxel points at).
     // The ray mode takes them only when its own starts found nothing.
+    const auto ray = [&](const Point4& end) {
+      const double length = distance(x, end);
+      const Point4 start = lower > 0 && lower < length ? lerp(x, end, lower / length) : x;
+      return first_bracket(start, end, tolerance, start == x ? &known.label : nullptr);
+    };
     for (int k = 0; k < 81; ++k) {
       std::size_t nc[4];
       bool ok = k != 40;  // 40 is the voxel itself
@@ -397,8 +452,10 @@ void SurfaceOracle::cfp_starts(const Point4& x, const PointFacts& known, CfpMode
       if (auto z = ray(lerp(x, other, (dn + 1.5 * voxel_size_) / dn))) candidates.push_back(*z);
     }
   }
-  // Nearest first, each oriented with x's side as a (and inner).
-  const Label x_label = known.label;
+  return true;
+}
+
+void SurfaceOracle::rank(const Point4& x, Label x_label, std::vector<SurfaceBracket>& candidates) {
   for (SurfaceBracket& k : candidates)
     if (k.label_b == x_label) std::swap(k.a, k.b), std::swap(k.label_a, k.label_b);
   std::stable_sort(candidates.begin(), candidates.end(), [&](const auto& a, const auto& b) {
@@ -406,14 +463,18 @@ void SurfaceOracle::cfp_starts(const Point4& x, const PointFacts& known, CfpMode
   });
 }
 
-std::optional<SurfaceBracket> SurfaceOracle::closest_surface_bracket(
-    const Point4& x, const PointFacts& known) const {
+std::optional<SurfaceBracket> SurfaceOracle::closest_surface_bracket(const Point4& x,
+                                                                     const PointFacts& known,
+                                                                     const Dismissal* dismissal,
+                                                                     bool* dropped) const {
   // Every candidate is bracketed coarsely, enough to rank them; pinpoint() narrows the one a
   // caller keeps: most of the ray mode's cost was halving candidates it then dropped.
   thread_local std::vector<SurfaceBracket> starts;
   const double tolerance = kRankTolerance * min_spacing_;
-  cfp_starts(x, known, CfpMode::ray, tolerance, starts, false);
-  if (starts.empty()) return std::nullopt;
+  const bool kept = cfp_candidates(x, known, CfpMode::ray, tolerance, starts, false, dismissal);
+  if (dropped) *dropped = !kept;
+  if (!kept || starts.empty()) return std::nullopt;
+  rank(x, known.label, starts);
   const SurfaceBracket& k = starts.front();
   // A crossing computed on a voxel edge (its ends differ along one axis only; the ray's
   // seldom do) is checked; when rounding put it outside its bracket, every edge is searched.

@@ -89,8 +89,30 @@ class SurfaceOracle {
   }
   /// The same, with x's facts already known.
   std::optional<SurfaceBracket> closest_surface_bracket(const Point4& x,
-                                                        const PointFacts& known) const;
+                                                        const PointFacts& known) const {
+    return closest_surface_bracket(x, known, nullptr, nullptr);
+  }
+  /// What a caller that drops some answers of closest_surface_bracket() says about a segment:
+  /// whether it would drop every point of it.
+  class Dismissal {
+   public:
+    virtual bool drops(const Point4& a, const Point4& b) const = 0;
+
+   protected:
+    ~Dismissal() = default;
+  };
+  /// The same, for such a caller: when `dismissal` drops every place where the candidates can
+  /// lie, asked before the ray's walk and again before its crossing is halved, nothing more is
+  /// done, *dropped is set and nothing returned; otherwise the same answer as without it, and
+  /// *dropped is cleared.
+  std::optional<SurfaceBracket> closest_surface_bracket(const Point4& x, const PointFacts& known,
+                                                        const Dismissal* dismissal,
+                                                        bool* dropped) const;
   SurfacePoint pinpoint(const SurfaceBracket& k) const;
+
+  /// Whether the ray mode stops a walk whose crossing could only lose to an edge crossing (see
+  /// cfp_candidates); on by default, and the answers are the same: tests turn it off to check.
+  void set_ray_give_up(bool on) { ray_give_up_ = on; }
 
   /// How closely closest_surface_bracket() brackets its candidates (to rank them, and what it
   /// returns), in units of the smallest spacing.
@@ -124,12 +146,32 @@ class SurfaceOracle {
   // Halves the bracket until it is shorter than `tolerance` (or the spacing of doubles).
   SurfaceBracket narrow(SurfaceBracket k, double tolerance) const;
   // The first label change from a towards b, bracketed to within `tolerance`.
+  // With a `give_up` point: nothing either once a sample farther than give_up.distance from
+  // give_up.from still has a's label (a ray whose crossing could only lose to a nearer one).
+  struct GiveUp {
+    Point4 from;
+    double distance;
+  };
   std::optional<SurfaceBracket> first_bracket(const Point4& a, const Point4& b, double tolerance,
-                                              const Label* label_a = nullptr) const;
+                                              const Label* label_a = nullptr,
+                                              const GiveUp* give_up = nullptr) const;
   // cfp's candidates (see CfpMode) into `out`, nearest to x first, x's side as a. Crossings on
   // voxel edges are computed (edge_bracket), or with `search_edges` found by halving.
   void cfp_starts(const Point4& x, const PointFacts& known, CfpMode mode, double tolerance,
-                  std::vector<SurfaceBracket>& out, bool search_edges = false) const;
+                  std::vector<SurfaceBracket>& out, bool search_edges = false) const {
+    cfp_candidates(x, known, mode, tolerance, out, search_edges, nullptr);
+    rank(x, known.label, out);
+  }
+  // The same candidates in the order found (the ray's first). With a dismissal, false (and
+  // nothing more done) once it drops every place where they can lie (see Dismissal).
+  bool cfp_candidates(const Point4& x, const PointFacts& known, CfpMode mode, double tolerance,
+                      std::vector<SurfaceBracket>& out, bool search_edges,
+                      const Dismissal* dismissal) const;
+  // Orients every candidate with x's side (label x_label) as a, then sorts them nearest first.
+  static void rank(const Point4& x, Label x_label, std::vector<SurfaceBracket>& candidates);
+  // The edges from surface voxel sc (center `center`) to its face neighbors of another label,
+  // as brackets with sc's side as a; returns how many (at least one for a surface voxel).
+  int voxel_edges(const std::uint32_t sc[4], const Point4& center, SurfaceBracket out[8]) const;
   // The nearest voxel to x (clamped to the image), by linear index, and its center.
   std::size_t nearest_voxel(const Point4& x, Point4* center) const;
   // A voxel's center from its linear index (below 2^32, as in the feature transform).
@@ -153,6 +195,7 @@ class SurfaceOracle {
   double voxel_size_;              // the largest spacing: the scale of search steps
   double min_spacing_;             // the smallest: the scale of tolerances
   double cell_diagonal_;           // of the hypercube between 16 voxel centers
+  bool ray_give_up_ = true;
 };
 
 }  // namespace mesh4d::domain

@@ -37,6 +37,16 @@ class FeatureIndex {
     return any_in_cell(cell_of(p), p, r * r);
   }
 
+  /// Whether some added point q in p's own grid cell lies strictly within distance r of p and
+  /// also passes accept(q). False may miss one elsewhere (for shortcuts that only save work).
+  template <class Accept>
+  bool any_within_own_cell_such(const Point4& p, double r, Accept accept) const {
+    const double r2 = r * r;
+    for (std::uint32_t i = find(key(cell_of(p))).head; i != kEmpty; i = next_[i])
+      if (squared_distance(p, points_[i]) < r2 && accept(points_[i])) return true;
+    return false;
+  }
+
   /// Whether some added point lies strictly within distance r (≤ the cell size) of p.
   bool any_within(const Point4& p, double r) const {
     // Only the grid cells that the box around the ball overlaps: 1 to 16 of them (of the 81
@@ -67,12 +77,8 @@ class FeatureIndex {
   };
 
   bool any_in_cell(const std::array<std::int64_t, 4>& cell, const Point4& p, double r2) const {
-    for (std::uint32_t i = find(key(cell)).head; i != kEmpty; i = next_[i]) {
-      const Point4& q = points_[i];
-      double d2 = 0;
-      for (int a = 0; a < 4; ++a) d2 += (p[a] - q[a]) * (p[a] - q[a]);
-      if (d2 < r2) return true;
-    }
+    for (std::uint32_t i = find(key(cell)).head; i != kEmpty; i = next_[i])
+      if (squared_distance(p, points_[i]) < r2) return true;
     return false;
   }
   std::int64_t cell_index(double x) const {

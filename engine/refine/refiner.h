@@ -145,8 +145,13 @@ class Refiner {
     std::shared_lock lock(features_mutex_);
     return own_cell_only ? features_.any_within_own_cell(p, r) : features_.any_within(p, r);
   }
-  // Whether the pentatope's circumball meets ∂Ω, judged at the cfp of its center.
-  bool ball_meets_surface(const CellInfo& info, domain::SurfaceBracket* cfp) const;
+  // Whether no point of segment [a, b] can be an R1 point of pentatope c: the part inside its
+  // circumball (if any) lies strictly within Δ of one feature vertex. False may be a missed
+  // one: only the pentatope's own vertices and one cell of the index are tried.
+  bool cfp_dismissed(delaunay::CellId c, Point4 a, Point4 b) const;
+  // Whether pentatope c's circumball meets ∂Ω, judged at the cfp of its center; for a ball
+  // smaller than 2Δ, also false where the cfp is sure to be within Δ of a feature vertex.
+  bool ball_meets_surface(delaunay::CellId c, domain::SurfaceBracket* cfp) const;
   Point4 clamp_to_box(const Point4& p) const;
   // Applies the rules until none does: on this thread, or on RefineParams::threads workers.
   void drain(ProgressSink* sink);

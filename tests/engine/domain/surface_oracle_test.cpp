@@ -196,6 +196,99 @@ TEST(SurfaceOracle, RayModeBracketsTheSurface) {
   EXPECT_GT(found, 350);
 }
 
+// A caller that drops every point within `reach` of `q` (both ends of a segment: the ball is
+// convex); it counts what it was asked.
+class DropNear final : public SurfaceOracle::Dismissal {
+ public:
+  DropNear(const Point4& q, double reach) : q_(q), reach_(reach) {}
+  bool drops(const Point4& a, const Point4& b) const override {
+    ++asked;
+    return dist(a, q_) < reach_ && dist(b, q_) < reach_;
+  }
+  mutable int asked = 0;
+
+ private:
+  Point4 q_;
+  double reach_;
+};
+
+TEST(SurfaceOracle, DismissedSearchesDropOnlyWhatTheCallerWouldDrop) {
+  // Where the search stops early, the answer it would have given lies where the caller drops
+  // everything; where it does not, the answer is the same bracket as without a dismissal.
+  LabelImage4 image = hypersphere_phantom({24, 24, 24, 24}, {1, 1, 1, 1}, 8);
+  validate_and_close(image);
+  const SurfaceOracle oracle(image);
+  const Point4 c = center_of(image);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int dropped_count = 0, kept_count = 0;
+  for (int q = 0; q < 4000; ++q) {
+    // Near ∂Ω, as the circumcenters the refiner asks about: the ray's crossing often wins.
+    const Point4 y{c[0] + 40 * u(rng), c[1] + 40 * u(rng), c[2] + 60 * u(rng), c[3] + 8 * u(rng)};
+    const auto near = oracle.closest_surface_bracket(y);
+    if (!near) continue;
+    const Point4 n = near->middle().point;
+    const Point4 x{n[0] + 6 * u(rng), n[1] + 6 * u(rng), n[2] + 6 * u(rng), n[3] + u(rng)};
+    const auto plain = oracle.closest_surface_bracket(x);
+    if (!plain) continue;
+    // A ball whose sphere passes near the answer: both outcomes happen, and a dismissal
+    // asked about the wrong places drops answers it should not.
+    const Point4 m = plain->middle().point;
+    const Point4 center{m[0] + 4 * u(rng), m[1] + 4 * u(rng), m[2] + 4 * u(rng), m[3] + u(rng)};
+    const DropNear dismissal(center, dist(center, m) + 1.5 * u(rng));
+    bool dropped = false;
+    const auto k = oracle.closest_surface_bracket(x, oracle.facts(x), &dismissal, &dropped);
+    EXPECT_GT(dismissal.asked, 0) << "query " << q;
+    if (dropped) {
+      ++dropped_count;
+      EXPECT_FALSE(k.has_value());
+      EXPECT_TRUE(dismissal.drops(m, m)) << "query " << q << ": dropped a kept answer";
+    } else {
+      ++kept_count;
+      ASSERT_TRUE(k.has_value()) << "query " << q;
+      EXPECT_EQ(k->a, plain->a) << "query " << q;
+      EXPECT_EQ(k->b, plain->b) << "query " << q;
+      EXPECT_EQ(k->label_a, plain->label_a) << "query " << q;
+      EXPECT_EQ(k->label_b, plain->label_b) << "query " << q;
+    }
+  }
+  EXPECT_GT(dropped_count, 500);
+  EXPECT_GT(kept_count, 500);
+}
+
+TEST(SurfaceOracle, RayWalksThatGiveUpGiveTheSameAnswers) {
+  // A ray's walk stops where its crossing could only lose to an edge crossing: the answers are
+  // those of full walks, near ∂Ω (where the ray sometimes wins) and far from it.
+  LabelImage4 image = beating_ventricle_phantom({50, 50, 22, 12}, {3.5, 3.5, 12, 1});
+  validate_and_close(image);
+  SurfaceOracle full(image), short_walks(image);
+  full.set_ray_give_up(false);
+  const Point4 c = center_of(image);
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int compared = 0, rays = 0;
+  for (int q = 0; q < 3000; ++q) {
+    Point4 x{c[0] + 40 * u(rng), c[1] + 40 * u(rng), c[2] + 60 * u(rng), c[3] + 8 * u(rng)};
+    if (q % 2 == 1)
+      if (const auto near = full.closest_surface_bracket(x)) {
+        const Point4 n = near->middle().point;
+        x = {n[0] + 3 * u(rng), n[1] + 3 * u(rng), n[2] + 6 * u(rng), n[3] + u(rng)};
+      }
+    const auto a = full.closest_surface_bracket(x), b = short_walks.closest_surface_bracket(x);
+    ASSERT_EQ(a.has_value(), b.has_value()) << "query " << q;
+    if (!a) continue;
+    ++compared;
+    int axes = 0;  // a ray's bracket, not an edge's
+    for (int k = 0; k < 4; ++k) axes += a->a[k] != a->b[k];
+    rays += axes > 1;
+    EXPECT_EQ(a->a, b->a) << "query " << q;
+    EXPECT_EQ(a->b, b->b) << "query " << q;
+    EXPECT_EQ(a->label_a, b->label_a) << "query " << q;
+  }
+  EXPECT_GT(compared, 2500);
+  EXPECT_GT(rays, 20);  // the ray won some
+}
+
 TEST(SurfaceOracle, FirstCrossingAlongASegment) {
   const LabelImage4 image = hypersphere_phantom({20, 20, 20, 20}, {1, 1, 1, 1}, 6);
   const SurfaceOracle oracle(image);
