@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "delaunay/geometry.h"
+#include "refine/repair_policy.h"
 
 namespace mesh4d::refine {
 
@@ -543,23 +544,28 @@ RefineResult Refiner::run(ProgressSink* sink) {
   drain(sink);
   // Where three labels meet the rules guarantee no manifold boundary; sample more of ∂Ω there
   // and refine again. Points closer than half of Δ to a sampled one are allowed only when
-  // nothing else is left, down to Δ/16: the work stays bounded. (Starting at a quarter of Δ,
-  // the short edges of the points squeezed in set off the radius-edge rule around them: on the
-  // ventricle the repair then doubled the mesh after the rules, for the same fidelity.)
+  // nothing else is left or the count stalls, down to Δ/16, and a finer level that makes the
+  // count grow ends the repair (RepairPolicy): the work stays bounded. (Starting at a quarter
+  // of Δ, the short edges of the points squeezed in set off the radius-edge rule around them:
+  // on the ventricle the repair then doubled the mesh after the rules, for the same fidelity.)
   double min_spacing = 0.5 * params_.delta;
   bool counted_since = false;  // the repair's last count is still current
+  RepairPolicy policy;
   for (int round = 0; round < kRepairRounds && min_spacing >= params_.delta / 16;) {
-    const std::size_t inserted = repair_pinches(min_spacing);
-    counted_since = inserted == 0;
-    if (inserted == 0) {
-      // Nothing went in since the repair counted (the same count a full scan gives: checked on
-      // the ventricle and the patients), so its list says whether pinches are left.
-      if (known_pinches_.empty()) break;
-      min_spacing /= 2;
+    // The count a full scan gives (checked on the ventricle and the patients); after a round
+    // that inserted nothing it only looks at the pinches it knew.
+    const std::size_t pinches = count_for_repair();
+    counted_since = true;
+    const RepairPolicy::Next next = policy.observe(pinches);
+    if (next == RepairPolicy::Next::stop) break;
+    if (next == RepairPolicy::Next::repair && repair_pinches(min_spacing) > 0) {
+      counted_since = false;
+      ++round;
+      drain(sink);
       continue;
     }
-    ++round;
-    drain(sink);
+    min_spacing /= 2;
+    policy.finer();
   }
   if (counted_since) set_current_pinches(known_pinches_);
 

@@ -171,8 +171,11 @@ class Refiner {
   // Pops and applies one candidate: locks its pentatope (in a parallel phase), classifies it,
   // inserts the rule's point. The caller releases the locks.
   Outcome process(Worker& w, const Candidate& k);
-  // Inserts surface points where a label's region boundary is pinched (a triangle in four or
-  // more of its boundary tetrahedra, seen where three labels meet), none closer than
+  // Counts the pinched triangles (a triangle in four or more of a label's region boundary
+  // tetrahedra, seen where three labels meet) into known_pinches_: a full scan the first time,
+  // then only where pentatopes changed since.
+  std::size_t count_for_repair();
+  // Inserts surface points around the pinches of the last count, none closer than
   // `min_spacing` to a feature vertex; returns how many.
   std::size_t repair_pinches(double min_spacing);
   struct RepairPoint {

@@ -324,15 +324,19 @@ std::size_t Refiner::recount_pinches(std::vector<PinchedTriangle>* pinched) {
   return pinched->size() - before;
 }
 
-std::size_t Refiner::repair_pinches(double min_spacing) {
+std::size_t Refiner::count_for_repair() {
   pinches_current_ = false;
   std::vector<PinchedTriangle> pinched;
   // The first count scans everything; later ones look only where pentatopes changed.
   const std::size_t found = tracking_ ? recount_pinches(&pinched) : count_pinches(&pinched);
   tracking_ = true;
   touched_.clear();
-  known_pinches_ = pinched;
-  if (found == 0) return 0;
+  known_pinches_ = std::move(pinched);
+  return found;
+}
+
+std::size_t Refiner::repair_pinches(double min_spacing) {
+  const std::vector<PinchedTriangle>& pinched = known_pinches_;
   // Per pinched triangle, the surface center of its largest restricted facet (the one the
   // rules left coarsest); all are found before any goes in, as cells die with insertions.
   std::vector<RepairPoint> points;

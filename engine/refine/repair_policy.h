@@ -1,0 +1,61 @@
+// When the pinch repair (refiner_junctions.cpp) goes on, moves to a finer spacing, or stops.
+//
+// The repair inserts surface points around pinched triangles, none closer than a spacing to a
+// sampled point (Δ/2 first, then halved when nothing else can go in), and lets the rules run
+// again; each round's count of pinches says how it went. Measured on the five patients at both
+// spacings (docs/refinement.md): at Δ/2 the count falls for about ten rounds, then stays level
+// for up to thirty more rounds of a few points each; at Δ/4 the count fell on the phantoms and
+// on three patients, but grew on the other seven rows, up to 40 % with twice the vertices and
+// three times the time (the short edges set off the radius-edge rule, whose points make new
+// pinches). So a level ends after a few rounds without a new low, and a finer level that makes
+// the count grow well past where it started ends the repair: relabeling closes the rest.
+#pragma once
+
+#include <cstddef>
+
+namespace mesh4d::refine {
+
+class RepairPolicy {
+ public:
+  enum class Next { repair, finer, stop };
+
+  /// Rounds in a row without a new low that end a level.
+  static constexpr int kStallRounds = 4;
+  /// A finer level whose count grows past this many times its first one stops the repair.
+  static constexpr double kGrowthLimit = 1.25;
+
+  /// What to do with `pinches` counted before a round at the current level.
+  Next observe(std::size_t pinches) {
+    if (pinches == 0) return Next::stop;
+    if (!started_) {
+      started_ = true;
+      first_ = low_ = pinches;
+      stalled_ = 0;
+      return Next::repair;
+    }
+    if (pinches < low_) {
+      low_ = pinches;
+      stalled_ = 0;
+      return Next::repair;
+    }
+    if (level_ > 0 && static_cast<double>(pinches) > kGrowthLimit * static_cast<double>(first_))
+      return Next::stop;
+    return ++stalled_ >= kStallRounds ? Next::finer : Next::repair;
+  }
+
+  /// The spacing was halved (nothing could go in, or observe() said finer).
+  void finer() {
+    ++level_;
+    started_ = false;
+  }
+
+  int level() const { return level_; }
+
+ private:
+  int level_ = 0;  // 0 at Δ/2
+  bool started_ = false;
+  std::size_t first_ = 0, low_ = 0;
+  int stalled_ = 0;
+};
+
+}  // namespace mesh4d::refine
