@@ -400,11 +400,15 @@ bool SurfaceOracle::cfp_candidates(const Point4& x, const PointFacts& known, Cfp
   // No label changes closer to x than the feature transform's lower bound: rays from x start
   // their walk there (most of a far x's walk was in one label).
   const double lower = known.lower;
+  const auto walk_start = [&](const Point4& end) {
+    const double length = distance(x, end);
+    return lower > 0 && lower < length ? lerp(x, end, lower / length) : x;
+  };
   const double dist = distance(x, center);
   if (dist > 1e-9 * voxel_size_) {
     const Point4 end = lerp(x, center, (dist + 1.5 * voxel_size_) / dist);
     const double length = distance(x, end);
-    const Point4 start = lower > 0 && lower < length ? lerp(x, end, lower / length) : x;
+    const Point4 start = walk_start(end);
     // Its crossing lies beyond `lower`.
     const bool ray_loses = give_up.distance <= lower;
     if (edges_dropped &&
@@ -432,8 +436,7 @@ bool SurfaceOracle::cfp_candidates(const Point4& x, const PointFacts& known, Cfp
     // near x is bumpy, and the closest bump need not be the one the nearest voxel points at).
     // The ray mode takes them only when its own starts found nothing.
     const auto ray = [&](const Point4& end) {
-      const double length = distance(x, end);
-      const Point4 start = lower > 0 && lower < length ? lerp(x, end, lower / length) : x;
+      const Point4 start = walk_start(end);
       return first_bracket(start, end, tolerance, start == x ? &known.label : nullptr);
     };
     for (int k = 0; k < 81; ++k) {

@@ -34,17 +34,14 @@ class FeatureIndex {
   /// A partial any_within(): only the points in p's own grid cell are measured. True means
   /// some point lies within r of p; false may miss one (for shortcuts that only save work).
   bool any_within_own_cell(const Point4& p, double r) const {
-    return any_in_cell(cell_of(p), p, r * r);
+    return any_within_own_cell_such(p, r, [](const Point4&) { return true; });
   }
 
   /// Whether some added point q in p's own grid cell lies strictly within distance r of p and
   /// also passes accept(q). False may miss one elsewhere (for shortcuts that only save work).
   template <class Accept>
   bool any_within_own_cell_such(const Point4& p, double r, Accept accept) const {
-    const double r2 = r * r;
-    for (std::uint32_t i = find(key(cell_of(p))).head; i != kEmpty; i = next_[i])
-      if (squared_distance(p, points_[i]) < r2 && accept(points_[i])) return true;
-    return false;
+    return any_in_cell(cell_of(p), p, r * r, accept);
   }
 
   /// Whether some added point lies strictly within distance r (≤ the cell size) of p.
@@ -76,9 +73,13 @@ class FeatureIndex {
     std::uint32_t head = kEmpty;  // newest point of the cell
   };
 
-  bool any_in_cell(const std::array<std::int64_t, 4>& cell, const Point4& p, double r2) const {
+  // Whether a point of `cell` lies strictly within sqrt(r2) of p and passes accept().
+  template <class Accept = bool (*)(const Point4&)>
+  bool any_in_cell(
+      const std::array<std::int64_t, 4>& cell, const Point4& p, double r2,
+      Accept accept = [](const Point4&) { return true; }) const {
     for (std::uint32_t i = find(key(cell)).head; i != kEmpty; i = next_[i])
-      if (squared_distance(p, points_[i]) < r2) return true;
+      if (squared_distance(p, points_[i]) < r2 && accept(points_[i])) return true;
     return false;
   }
   std::int64_t cell_index(double x) const {
