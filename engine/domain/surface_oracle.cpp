@@ -60,9 +60,9 @@ Point4 SurfaceOracle::center_of(std::uint32_t voxel, std::uint32_t coordinates[4
   return image_.voxel_center(coordinates[0], coordinates[1], coordinates[2], coordinates[3]);
 }
 
-SurfaceOracle::PointFacts SurfaceOracle::facts(const Point4& x) const {
+SurfaceOracle::PointFacts SurfaceOracle::facts(const Point4& x, Label label) const {
   PointFacts f;
-  f.label = label_at(x);
+  f.label = label;
   Point4 v;
   const std::size_t nearest = nearest_voxel(x, &v);
   f.surface_voxel = feature_[nearest];

@@ -104,6 +104,9 @@ class Refiner {
     std::uint32_t surface_voxel = 0;  // where the cfp of center starts (PointFacts)
     domain::Label label = 0;
     bool finite = false;  // false for infinite or flat pentatopes
+    // Whether surface_lower and surface_voxel are set: only once the pentatope is classified
+    // (six in ten pentatopes die before, on the ventricle and the patients).
+    bool surface_known = false;
   };
 
   delaunay::Simplex4 simplex_of(delaunay::CellId c) const {
