@@ -153,10 +153,6 @@ void Refiner::update_info(CellId c) {
 }
 
 void Refiner::admit(Worker& w, const std::vector<CellId>& cells) {
-  if (tracking_) {
-    std::vector<CellId>& touched = w.guard ? w.touched : touched_;
-    touched.insert(touched.end(), cells.begin(), cells.end());
-  }
   for (CellId c : cells) update_info(c);
   for (CellId c : cells) enqueue(w, c);
 }
@@ -452,6 +448,8 @@ Refiner::Outcome Refiner::insert_and_admit(Worker& w, const Point4& point, Verte
       return Outcome::conflict;
     features_.add(point);
   }
+  const bool log_facets = counting_facets_;
+  if (log_facets) note_doomed_facets(w, rule);
   const VertexId v = tri_.new_vertex(point, kind, w.guard ? w.locks.owner() : 0);
   if (w.guard) w.locks.adopt(v);
   tri_.commit(w.ws->cavity, v, *w.ws);
@@ -460,8 +458,10 @@ Refiner::Outcome Refiner::insert_and_admit(Worker& w, const Point4& point, Verte
   if (rule == kR5)
     for (VertexId u : w.near)
       if (tri_.remove(u, &w.created, *w.ws, w.guard) ==
-          delaunay::Triangulation::RemoveResult::removed)
+          delaunay::Triangulation::RemoveResult::removed) {
         w.removals[kR5].fetch_add(1, std::memory_order_relaxed);
+        if (log_facets) w.removed.push_back(u);
+      }
   // The new pentatopes: the star of the new vertex (what commit made, unless removals changed
   // it), and what filled removed vertices' holes (some of those may have died in a later
   // removal).
@@ -475,6 +475,7 @@ Refiner::Outcome Refiner::insert_and_admit(Worker& w, const Point4& point, Verte
   std::sort(w.fresh.begin(), w.fresh.end());
   w.fresh.erase(std::unique(w.fresh.begin(), w.fresh.end()), w.fresh.end());
   admit(w, w.fresh);
+  if (log_facets) log_facet_changes(w);
   return Outcome::done;
 }
 
@@ -574,6 +575,9 @@ RefineResult Refiner::run(ProgressSink* sink) {
     policy.finer();
   }
   if (counted_since) set_current_pinches(known_pinches_);
+  counting_facets_ = false;
+  pinch_counts_.clear();
+  for (auto& w : workers_) w->facet_changes.clear();
 
   // What the repair leaves, relabeling closes; where it cannot (a pentatope that would have to
   // move has a free vertex), those free vertices go, the rules run again, and so on, a few times.

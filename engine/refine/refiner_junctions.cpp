@@ -5,6 +5,8 @@
 // uses), which splits them, and the rules run again.
 #include <algorithm>
 #include <array>
+#include <stdexcept>
+#include <tuple>
 
 #include "delaunay/spatial_sort.h"
 #include "domain/junctions.h"
@@ -34,12 +36,6 @@ namespace {
 // Scans shorter than this stay on one thread: starting threads would cost more.
 constexpr std::size_t kScanPerThread = 4096;
 
-std::uint64_t hash_key(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
-  std::uint64_t h = (std::uint64_t(a) << 32 | b) * 0x9E3779B97F4A7C15ull;
-  h ^= (std::uint64_t(c) << 32 | d) * 0xC2B2AE3D27D4EB4Full;
-  return h ^ (h >> 29);
-}
-
 // The part that counts a triangle: every record of one triangle meets in one part.
 unsigned bucket_of(std::uint64_t hash, unsigned parts) {
   return static_cast<unsigned>((hash >> 40) % parts);
@@ -63,7 +59,8 @@ unsigned Refiner::scan_parts(std::size_t items) const {
   return static_cast<unsigned>(std::min<std::size_t>(params_.threads, useful));
 }
 
-std::size_t Refiner::count_pinches(std::vector<PinchedTriangle>* pinched) const {
+std::size_t Refiner::count_pinches(std::vector<PinchedTriangle>* pinched,
+                                   PinchCounts* counts) const {
   // Records (region label, sorted triangle, facet) for every triangle of every region's
   // boundary facet. With several threads, each scans a range of pentatopes and hands each
   // record to the part its triangle hashes to; each part then counts its own triangles.
@@ -107,6 +104,7 @@ std::size_t Refiner::count_pinches(std::vector<PinchedTriangle>* pinched) const 
     std::uint32_t count = 0;
     std::uint32_t pinch = 0;  // 1 + index in found[part], once listed
   };
+  std::vector<std::vector<Slot>> tables(counts ? parts : 0);
   std::vector<std::size_t> pinches(parts, 0);
   std::vector<std::vector<PinchedTriangle>> found(parts);
   run_parts(parts, [&](unsigned part) {
@@ -122,6 +120,7 @@ std::size_t Refiner::count_pinches(std::vector<PinchedTriangle>* pinched) const 
         slot.key = r.key;
         if (++slot.count == 3) ++pinches[part];
       }
+    if (counts) tables[part] = table;
     if (!pinched || pinches[part] == 0) return;
     for (const auto& from : records)
       for (const Record& r : from[part]) {
@@ -135,6 +134,9 @@ std::size_t Refiner::count_pinches(std::vector<PinchedTriangle>* pinched) const 
         found[part][slot.pinch - 1].facets.emplace_back(r.cell, r.facet);
       }
   });
+  for (const auto& table : tables)
+    for (const Slot& slot : table)
+      if (slot.count > 0 && slot.key[0] != 0) counts->add(slot.key, static_cast<int>(slot.count));
   std::size_t total = 0;
   for (unsigned part = 0; part < parts; ++part) {
     total += pinches[part];
@@ -219,118 +221,129 @@ void Refiner::pinches_at(CellId start, const std::array<VertexId, 3>& t,
   }
 }
 
-std::size_t Refiner::recount_pinches(std::vector<PinchedTriangle>* pinched) {
-  // Candidate triangles with a live pentatope through each, handed (as in count_pinches) to
-  // the part their triangle hashes to.
-  using Triangle = std::array<VertexId, 3>;
-  using Through = std::pair<Triangle, CellId>;
-  const auto& st = tri_.store();
-  // Slots are reused as the rules churn: each once (a fifth of the list on the ventricle).
-  std::vector<std::uint64_t> listed((st.cell_slots() + 63) / 64, 0);
-  std::size_t unique = 0;
-  for (const CellId c : touched_) {
-    std::uint64_t& word = listed[c / 64];
-    const std::uint64_t bit = std::uint64_t(1) << (c % 64);
-    if (!(word & bit)) word |= bit, touched_[unique++] = c;
+void Refiner::boundary_facets_of(CellId c, int delta, std::vector<DoomedFacet>& out) const {
+  const auto& cell = tri_.store().cell(c);
+  const domain::Label own = output_label(c);
+  for (int i = 0; i < 5; ++i) {
+    const domain::Label other = output_label(cell.n[i]);
+    if (other == own) continue;
+    DoomedFacet f{c, cell.n[i], {{}, own, other, delta}};
+    for (int k = 0, m = 0; k < 5; ++k)
+      if (k != i) f.change.facet[m++] = cell.v[k];
+    std::sort(f.change.facet.begin(), f.change.facet.end());
+    out.push_back(f);
   }
-  touched_.resize(unique);
-  const unsigned parts = scan_parts(touched_.size());
-  const auto part_of = [parts](const Triangle& t) {
-    return bucket_of(hash_key(t[0], t[1], t[2], 0), parts);
+}
+
+void Refiner::note_doomed_facets(Worker& w, int rule) {
+  // In a parallel phase this thread holds all these pentatopes and the vertices they share
+  // with their neighbors: their labels are stable.
+  w.doomed.clear();
+  w.doomed_facets.clear();
+  w.removed.clear();
+  for (CellId c : w.ws->cavity.cells) w.doomed.emplace_back(c, delaunay::kNoVertex);
+  if (rule == kR5)
+    for (VertexId u : w.near) {
+      tri_.incident_cells(u, w.star);
+      for (CellId c : w.star) w.doomed.emplace_back(c, u);
+    }
+  std::sort(w.doomed.begin(), w.doomed.end());
+  for (std::size_t i = 0; i < w.doomed.size(); ++i)
+    if (i == 0 || w.doomed[i].first != w.doomed[i - 1].first)
+      boundary_facets_of(w.doomed[i].first, -1, w.doomed_facets);
+}
+
+void Refiner::log_facet_changes(Worker& w) {
+  // Dead: the cavity, and the stars of the vertices that were removed (a failed removal leaves
+  // its star). A facet between two dead pentatopes went once; one between two new ones came
+  // once.
+  std::size_t dead = 0;
+  for (std::size_t i = 0; i < w.doomed.size(); ++i) {
+    const auto [c, u] = w.doomed[i];
+    const bool dies = u == delaunay::kNoVertex ||
+                      std::find(w.removed.begin(), w.removed.end(), u) != w.removed.end();
+    if (dies && (dead == 0 || w.doomed[dead - 1].first != c)) w.doomed[dead++] = w.doomed[i];
+  }
+  w.doomed.resize(dead);  // sorted by cell, each once
+  const auto died = [&](CellId c) {
+    const auto it =
+        std::lower_bound(w.doomed.begin(), w.doomed.end(), std::pair<CellId, VertexId>{c, 0});
+    return it != w.doomed.end() && it->first == c;
   };
-  std::vector<std::vector<std::vector<Through>>> candidates(
-      parts, std::vector<std::vector<Through>>(parts));
-  run_parts(parts, [&](unsigned part) {
-    const auto [begin, end] = part_range(touched_.size(), part, parts);
-    for (std::size_t j = begin; j < end; ++j) {
-      const CellId c = touched_[j];
-      if (!st.is_live(c) || st.is_infinite(c)) continue;
-      const auto& cell = st.cell(c);
-      const domain::Label own = info_[c].finite ? info_[c].label : 0;
-      for (int i = 0; i < 5; ++i) {
-        const CellId nb = cell.n[i];
-        const domain::Label other = st.is_infinite(nb) || !info_[nb].finite ? 0 : info_[nb].label;
-        if (other == own) continue;
-        std::array<VertexId, 4> facet;
-        for (int k = 0, m = 0; k < 5; ++k)
-          if (k != i) facet[m++] = cell.v[k];
-        std::sort(facet.begin(), facet.end());
+  for (const DoomedFacet& f : w.doomed_facets)
+    if (died(f.cell) && !(died(f.other) && f.other < f.cell)) w.facet_changes.push_back(f.change);
+  w.doomed_facets.clear();
+  for (CellId c : w.fresh) boundary_facets_of(c, +1, w.doomed_facets);
+  for (const DoomedFacet& f : w.doomed_facets)
+    if (!(f.other < f.cell && std::binary_search(w.fresh.begin(), w.fresh.end(), f.other)))
+      w.facet_changes.push_back(f.change);
+  w.doomed_facets.clear();
+}
+
+std::size_t Refiner::count_from_facet_changes(std::vector<PinchedTriangle>* pinched) {
+  for (auto& w : workers_) {
+    for (const FacetChange& f : w->facet_changes)
+      for (const domain::Label l : {f.a, f.b}) {
+        if (l == 0) continue;
         for (int skip = 0; skip < 4; ++skip) {
-          Triangle t;
-          for (int k = 0, m = 0; k < 4; ++k)
-            if (k != skip) t[m++] = facet[k];
-          candidates[part][part_of(t)].emplace_back(t, c);
+          PinchKey key{l, 0, 0, 0};
+          for (int k = 0, m = 1; k < 4; ++k)
+            if (k != skip) key[m++] = f.facet[k];
+          pinch_counts_.add(key, f.delta);
         }
       }
-    }
-  });
-  std::vector<CellId> star;
-  for (const PinchedTriangle& p : known_pinches_) {
-    // A pentatope of the old pinch may be gone; any live one through the triangle will do.
-    CellId through = delaunay::kNoCell;
-    for (const auto& [c, i] : p.facets)
-      if (st.is_live(c) && !st.is_infinite(c)) {
-        int found = 0;
-        for (VertexId v : st.cell(c).v)
-          found += v == p.triangle[0] || v == p.triangle[1] || v == p.triangle[2];
-        if (found == 3) {
-          through = c;
-          break;
-        }
-      }
-    bool alive = true;
-    for (VertexId v : p.triangle) alive = alive && st.vertex(v).kind != VertexKind::removed;
-    if (through == delaunay::kNoCell && alive) {
-      tri_.incident_cells(p.triangle[0], star);
-      for (CellId c : star) {
-        int found = 0;
-        for (VertexId v : st.cell(c).v) found += v == p.triangle[1] || v == p.triangle[2];
-        if (found == 2) {
-          through = c;
-          break;
-        }
-      }
-    }
-    if (through != delaunay::kNoCell)
-      candidates[0][part_of(p.triangle)].emplace_back(p.triangle, through);
+    w->facet_changes.clear();
   }
-  std::vector<std::vector<PinchedTriangle>> found(parts);
-  run_parts(parts, [&](unsigned part) {
-    // Each triangle once (a hash set: sorting the candidates cost more than the walks).
-    const std::size_t size = table_size(candidates, part);
-    std::vector<Through> seen(size, Through{{}, delaunay::kNoCell});
-    for (const auto& from : candidates)
-      for (const auto& [t, c] : from[part]) {
-        const std::uint64_t h = hash_key(t[0], t[1], t[2], 0);
-        for (std::size_t i = h & (size - 1);; i = (i + 1) & (size - 1)) {
-          if (seen[i].second == delaunay::kNoCell) {
-            seen[i] = {t, c};
-            pinches_at(c, t, &found[part]);
-            break;
-          }
-          if (seen[i].first == t) break;
-        }
-      }
+  // Each pinched triangle walked once from a pentatope through it, in triangle order (and for
+  // each triangle, in the order pinches_at lists its labels), as recount_pinches lists them.
+  auto keys = pinch_counts_.pinched();
+  std::sort(keys.begin(), keys.end(), [](const PinchKey& a, const PinchKey& b) {
+    return std::tie(a[1], a[2], a[3], a[0]) < std::tie(b[1], b[2], b[3], b[0]);
   });
-  // In triangle order (and for each triangle, in the order pinches_at lists its labels): the
-  // repair's order depends neither on the hashing nor on the number of parts.
+  const auto& st = tri_.store();
+  std::vector<CellId> star;
   const std::size_t before = pinched->size();
-  for (auto& part : found)
-    pinched->insert(pinched->end(), std::make_move_iterator(part.begin()),
-                    std::make_move_iterator(part.end()));
-  std::stable_sort(
-      pinched->begin() + static_cast<std::ptrdiff_t>(before), pinched->end(),
-      [](const PinchedTriangle& a, const PinchedTriangle& b) { return a.triangle < b.triangle; });
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    const std::array<VertexId, 3> t{keys[i][1], keys[i][2], keys[i][3]};
+    if (i > 0 && std::equal(t.begin(), t.end(), keys[i - 1].begin() + 1)) continue;
+    tri_.incident_cells(t[0], star);
+    for (CellId c : star) {
+      int found = 0;
+      for (VertexId v : st.cell(c).v) found += v == t[1] || v == t[2];
+      if (found == 2) {
+        pinches_at(c, t, pinched);
+        break;
+      }
+    }
+  }
   return pinched->size() - before;
 }
 
 std::size_t Refiner::count_for_repair() {
   pinches_current_ = false;
   std::vector<PinchedTriangle> pinched;
-  // The first count scans everything; later ones look only where pentatopes changed.
-  const std::size_t found = tracking_ ? recount_pinches(&pinched) : count_pinches(&pinched);
-  tracking_ = true;
-  touched_.clear();
+  // The first count scans everything; later ones follow the facet changes.
+  const std::size_t found = counting_facets_ ? count_from_facet_changes(&pinched)
+                                             : count_pinches(&pinched, &pinch_counts_);
+  if (check_counts_ && counting_facets_) {
+    std::vector<PinchedTriangle> full;
+    PinchCounts counts;
+    count_pinches(&full, &counts);
+    if (!(counts == pinch_counts_))
+      throw std::logic_error(
+          "Refiner: the triangles' counts from facet changes differ from a full count");
+    sort_canonically(full);
+    sort_canonically(pinched);
+    const auto same = [](const PinchedTriangle& a, const PinchedTriangle& b) {
+      return a.triangle == b.triangle && a.facets == b.facets;
+    };
+    if (!std::equal(pinched.begin(), pinched.end(), full.begin(), full.end(), same))
+      throw std::logic_error(
+          "Refiner: the pinches counted from facet changes differ from a full count");
+  }
+  counting_facets_ = true;
+  // In canonical order: the repair's points go in in this order, however the list was found.
+  sort_canonically(pinched);
   known_pinches_ = std::move(pinched);
   return found;
 }

@@ -310,8 +310,6 @@ void Refiner::leave_parallel(unsigned threads) {
     w.locks.release_all();
     tri_.merge(w.own_ws);
     w.live_cells.store(0, std::memory_order_relaxed);
-    touched_.insert(touched_.end(), w.touched.begin(), w.touched.end());
-    w.touched.clear();
     w.guard = nullptr;
     w.ws = nullptr;
   }

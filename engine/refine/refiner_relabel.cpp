@@ -224,7 +224,7 @@ const std::vector<Refiner::PinchedTriangle>& Refiner::current_pinches() {
   return current_pinches_;
 }
 
-void Refiner::set_current_pinches(std::vector<PinchedTriangle> pinches) {
+void Refiner::sort_canonically(std::vector<PinchedTriangle>& pinches) const {
   // Every facet of a pinch lies in a pentatope of the pinched region: its label is the pinch's.
   for (PinchedTriangle& p : pinches) std::sort(p.facets.begin(), p.facets.end());
   std::sort(pinches.begin(), pinches.end(),
@@ -233,6 +233,10 @@ void Refiner::set_current_pinches(std::vector<PinchedTriangle> pinches) {
                           lb = info_[b.facets.front().first].label;
               return a.triangle != b.triangle ? a.triangle < b.triangle : la < lb;
             });
+}
+
+void Refiner::set_current_pinches(std::vector<PinchedTriangle> pinches) {
+  sort_canonically(pinches);
   current_pinches_ = std::move(pinches);
   pinches_current_ = true;
 }

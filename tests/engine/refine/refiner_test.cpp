@@ -125,6 +125,25 @@ TEST(Refiner, VentricleGetsBothLabels) {
   EXPECT_EQ(components, 2u);
 }
 
+// The repair's rounds count pinches from the facet changes of their operations; each count is
+// checked against a full scan (the refiner throws on a difference), with one thread and with
+// two (whose logs are applied one worker after the other).
+TEST(Refiner, PinchCountsFromFacetChangesMatchFullCounts) {
+  auto image = domain::beating_ventricle_phantom({50, 50, 22, 8}, {3.54, 3.54, 12, 2});
+  domain::validate_and_close(image);
+  const domain::SurfaceOracle oracle(image);
+  for (unsigned threads : {1u, 2u}) {
+    RefineParams params;
+    params.delta = 6;
+    params.threads = threads;
+    Refiner refiner(oracle, params);
+    refiner.set_pinch_count_check(true);
+    RefineResult r;
+    ASSERT_NO_THROW(r = refiner.run()) << threads << " threads";
+    EXPECT_GT(r.stats.pentatopes, 0u);
+  }
+}
+
 // A real heart (../shared/data/heart4d, skipped where absent): cavity, myocardium and background
 // meet at the valve plane and at the time caps, where the rules alone leave pinched regions
 // and the repair and the relabeling must close them; at δ = 10 to stay fast.
