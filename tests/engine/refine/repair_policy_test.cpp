@@ -42,15 +42,48 @@ TEST(RepairPolicy, AStalledLevelMovesToAFinerOne) {
 
 TEST(RepairPolicy, GrowthStopsOnlyAFinerLevel) {
   // At Δ/2 a count may rise for a while (Pat01 at the paper's spacing: 562, 594, 629, 600,
-  // then 493); at Δ/4 a rise past 1.25 times the level's first count ends the repair (Pat04:
-  // 1424, then 1840).
+  // then 493); at Δ/4 a rise past 1.25 times the level's first count ends the repair at once
+  // (Pat04: 1424, then 1840).
   RepairPolicy first;
   for (Next n : feed(first, {718, 670, 562, 594, 629, 600, 493})) EXPECT_EQ(n, Next::repair);
   RepairPolicy finer;
   finer.finer();
   EXPECT_EQ(finer.observe(1424), Next::repair);
-  EXPECT_EQ(finer.observe(1700), Next::repair);  // below 1.25 × 1424 = 1780
   EXPECT_EQ(finer.observe(1840), Next::stop);
+}
+
+TEST(RepairPolicy, AFinerLevelMustPayWithinTwoRounds) {
+  // Pat02 at the files' spacing (session 11): level after two rounds, then down to 61 — it
+  // goes on. Pat05 at the files' spacing: 398, then 472 and 427 — it stops (the repair went on
+  // to 465, then a Δ/8 level at 599, 1.6 s for nothing). Pat03 at the paper's spacing: 495,
+  // 494, 526 — a new low, but under 5 %.
+  RepairPolicy pays;
+  pays.finer();
+  for (Next n : feed(pays, {393, 393, 355, 411, 372, 312, 260, 221, 203, 180, 174, 166, 134}))
+    EXPECT_EQ(n, Next::repair);
+  RepairPolicy stalls;
+  stalls.finer();
+  EXPECT_EQ(feed(stalls, {398, 472, 427}),
+            (std::vector<Next>{Next::repair, Next::repair, Next::stop}));
+  RepairPolicy barely;
+  barely.finer();
+  EXPECT_EQ(feed(barely, {495, 494, 526}),
+            (std::vector<Next>{Next::repair, Next::repair, Next::stop}));
+}
+
+TEST(RepairPolicy, OnlyAFinerLevelThatCutTenPercentGoesFiner) {
+  // Pat01 at the files' spacing (session 11): 106, 99, then four rounds above 99 (93 % of the
+  // start): stop, where a Δ/8 level went from 118 to 155. The first level goes finer anyway.
+  RepairPolicy finer;
+  finer.finer();
+  EXPECT_EQ(feed(finer, {106, 99, 110, 120, 111, 118}),
+            (std::vector<Next>{Next::repair, Next::repair, Next::repair, Next::repair, Next::repair,
+                               Next::stop}));
+  RepairPolicy cut;
+  cut.finer();
+  EXPECT_EQ(feed(cut, {100, 80, 85, 86, 87, 88}).back(), Next::finer);
+  RepairPolicy first;
+  EXPECT_EQ(feed(first, {106, 106, 106, 106, 106}).back(), Next::finer);
 }
 
 }  // namespace
