@@ -28,6 +28,7 @@ class PinchCounts {
   /// Adds `delta` to the count of (label, triangle); label 0 is not counted. A key whose count
   /// falls to 0 is dropped: the table holds the boundary triangles of now, 16 bytes each.
   void add(const PinchKey& key, int delta) {
+    if (key[0] == 0) return;
     if (2 * (used_ + 1) > table_.size()) grow();
     const std::size_t i = find(key);
     Slot& slot = table_[i];
@@ -36,6 +37,13 @@ class PinchCounts {
     slot.count = static_cast<std::int16_t>(before + delta);
     if (before <= 2 && slot.count > 2) over_.push_back(key);
     if (slot.count == 0) erase(i);
+  }
+
+  /// Room for `keys` keys without growing.
+  void reserve(std::size_t keys) {
+    std::size_t size = 64;
+    while (size < 2 * keys + 2) size *= 2;
+    if (size > table_.size()) rehash(size);
   }
 
   /// The keys whose count is now above two, sorted.
@@ -106,8 +114,9 @@ class PinchCounts {
     table_[i].label = 0;
     --used_;
   }
-  void grow() {
-    std::vector<Slot> old(std::max<std::size_t>(64, 2 * table_.size()), Slot{{}, 0, 0});
+  void grow() { rehash(std::max<std::size_t>(64, 2 * table_.size())); }
+  void rehash(std::size_t size) {
+    std::vector<Slot> old(size, Slot{{}, 0, 0});
     old.swap(table_);
     for (const Slot& s : old)
       if (s.label != 0) table_[find({s.label, s.triangle[0], s.triangle[1], s.triangle[2]})] = s;

@@ -120,23 +120,33 @@ std::size_t Refiner::count_pinches(std::vector<PinchedTriangle>* pinched,
         slot.key = r.key;
         if (++slot.count == 3) ++pinches[part];
       }
-    if (counts) tables[part] = table;
-    if (!pinched || pinches[part] == 0) return;
-    for (const auto& from : records)
-      for (const Record& r : from[part]) {
-        Slot& slot = slot_of(r);
-        if (slot.count <= 2) continue;
-        if (slot.pinch == 0) {
-          found[part].emplace_back();
-          found[part].back().triangle = {r.key[1], r.key[2], r.key[3]};
-          slot.pinch = static_cast<std::uint32_t>(found[part].size());
+    if (pinched && pinches[part] > 0)
+      for (const auto& from : records)
+        for (const Record& r : from[part]) {
+          Slot& slot = slot_of(r);
+          if (slot.count <= 2) continue;
+          if (slot.pinch == 0) {
+            found[part].emplace_back();
+            found[part].back().triangle = {r.key[1], r.key[2], r.key[3]};
+            slot.pinch = static_cast<std::uint32_t>(found[part].size());
+          }
+          found[part][slot.pinch - 1].facets.emplace_back(r.cell, r.facet);
         }
-        found[part][slot.pinch - 1].facets.emplace_back(r.cell, r.facet);
-      }
+    if (counts) tables[part] = std::move(table);
   });
-  for (const auto& table : tables)
-    for (const Slot& slot : table)
-      if (slot.count > 0 && slot.key[0] != 0) counts->add(slot.key, static_cast<int>(slot.count));
+  if (counts) {
+    // The records go first: at the first count of the repair this is its largest moment.
+    records = {};
+    std::size_t keys = 0;
+    for (const auto& table : tables)
+      for (const Slot& slot : table) keys += slot.count > 0;
+    counts->reserve(keys);
+    for (auto& table : tables) {
+      for (const Slot& slot : table)
+        if (slot.count > 0) counts->add(slot.key, static_cast<int>(slot.count));
+      table = {};
+    }
+  }
   std::size_t total = 0;
   for (unsigned part = 0; part < parts; ++part) {
     total += pinches[part];
