@@ -27,7 +27,8 @@ class PinchCounts {
  public:
   /// Adds `delta` to the count of (label, triangle); label 0 is not counted. A key whose count
   /// falls to 0 is dropped: the table holds the boundary triangles of now, 16 bytes each.
-  void add(const PinchKey& key, int delta) {
+  /// `cell`: a pentatope through the triangle, kept with a key whose count goes above two.
+  void add(const PinchKey& key, int delta, std::uint32_t cell = 0) {
     if (key[0] == 0) return;
     if (2 * (used_ + 1) > table_.size()) grow();
     const std::size_t i = find(key);
@@ -35,7 +36,7 @@ class PinchCounts {
     if (slot.label == 0) slot = {{key[1], key[2], key[3]}, std::uint16_t(key[0]), 0}, ++used_;
     const int before = slot.count;
     slot.count = static_cast<std::int16_t>(before + delta);
-    if (before <= 2 && slot.count > 2) over_.push_back(key);
+    if (before <= 2 && slot.count > 2) over_.push_back({key, cell});
     if (slot.count == 0) erase(i);
   }
 
@@ -46,13 +47,19 @@ class PinchCounts {
     if (size > table_.size()) rehash(size);
   }
 
+  struct Pinch {
+    PinchKey key;
+    std::uint32_t cell;  // given when its count last went above two (it may have died since)
+  };
   /// The keys whose count is now above two, sorted.
-  std::vector<PinchKey> pinched() {
-    std::sort(over_.begin(), over_.end());
-    over_.erase(std::unique(over_.begin(), over_.end()), over_.end());
+  std::vector<Pinch> pinched() {
+    // The latest cell of a key that went above two more than once.
+    std::stable_sort(over_.begin(), over_.end(),
+                     [](const Pinch& a, const Pinch& b) { return a.key < b.key; });
     std::size_t kept = 0;
-    for (const PinchKey& key : over_)
-      if (count(key) > 2) over_[kept++] = key;
+    for (std::size_t i = 0; i < over_.size(); ++i)
+      if ((i + 1 == over_.size() || over_[i + 1].key != over_[i].key) && count(over_[i].key) > 2)
+        over_[kept++] = over_[i];
     over_.resize(kept);
     return over_;
   }
@@ -124,7 +131,7 @@ class PinchCounts {
 
   std::vector<Slot> table_;  // open addressing, a power of two, at most half full
   std::size_t used_ = 0;
-  std::vector<PinchKey> over_;  // the keys whose count went above two (some since fell back)
+  std::vector<Pinch> over_;  // the keys whose count went above two (some since fell back)
 };
 
 }  // namespace mesh4d::refine

@@ -75,6 +75,7 @@ class Refiner {
     std::array<mesh4d::VertexId, 4> facet;  // sorted
     domain::Label a, b;                     // its sides' labels
     int delta;
+    delaunay::CellId cell;  // for +1: the new pentatope it was seen from
   };
   struct DoomedFacet {
     delaunay::CellId cell, other;  // other: the pentatope across it

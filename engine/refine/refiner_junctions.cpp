@@ -237,7 +237,7 @@ void Refiner::boundary_facets_of(CellId c, int delta, std::vector<DoomedFacet>& 
   for (int i = 0; i < 5; ++i) {
     const domain::Label other = output_label(cell.n[i]);
     if (other == own) continue;
-    DoomedFacet f{c, cell.n[i], {{}, own, other, delta}};
+    DoomedFacet f{c, cell.n[i], {{}, own, other, delta, c}};
     for (int k = 0, m = 0; k < 5; ++k)
       if (k != i) f.change.facet[m++] = cell.v[k];
     std::sort(f.change.facet.begin(), f.change.facet.end());
@@ -299,32 +299,56 @@ std::size_t Refiner::count_from_facet_changes(std::vector<PinchedTriangle>* pinc
           PinchKey key{l, 0, 0, 0};
           for (int k = 0, m = 1; k < 4; ++k)
             if (k != skip) key[m++] = f.facet[k];
-          pinch_counts_.add(key, f.delta);
+          pinch_counts_.add(key, f.delta, f.cell);
         }
       }
     w->facet_changes.clear();
   }
-  // Each pinched triangle walked once from a pentatope through it, in triangle order (and for
-  // each triangle, in the order pinches_at lists its labels), as recount_pinches lists them.
+  // Each pinched triangle walked once, from a pentatope through it: one of its facets in the
+  // last count (known_pinches_, sorted by triangle), or the one whose facet pushed a count
+  // above two, or else one of its first vertex's star (a star per triangle was 4 % of the run).
   auto keys = pinch_counts_.pinched();
-  std::sort(keys.begin(), keys.end(), [](const PinchKey& a, const PinchKey& b) {
-    return std::tie(a[1], a[2], a[3], a[0]) < std::tie(b[1], b[2], b[3], b[0]);
+  std::sort(keys.begin(), keys.end(), [](const PinchCounts::Pinch& a, const PinchCounts::Pinch& b) {
+    return std::tie(a.key[1], a.key[2], a.key[3], a.key[0]) <
+           std::tie(b.key[1], b.key[2], b.key[3], b.key[0]);
   });
   const auto& st = tri_.store();
   std::vector<CellId> star;
   const std::size_t before = pinched->size();
   for (std::size_t i = 0; i < keys.size(); ++i) {
-    const std::array<VertexId, 3> t{keys[i][1], keys[i][2], keys[i][3]};
-    if (i > 0 && std::equal(t.begin(), t.end(), keys[i - 1].begin() + 1)) continue;
-    tri_.incident_cells(t[0], star);
-    for (CellId c : star) {
+    const std::array<VertexId, 3> t{keys[i].key[1], keys[i].key[2], keys[i].key[3]};
+    const auto same_t = [&](std::size_t j) {
+      return std::equal(t.begin(), t.end(), keys[j].key.begin() + 1);
+    };
+    if (i > 0 && same_t(i - 1)) continue;
+    const auto through = [&](CellId c) {
+      if (!st.is_live(c)) return false;
       int found = 0;
-      for (VertexId v : st.cell(c).v) found += v == t[1] || v == t[2];
-      if (found == 2) {
-        pinches_at(c, t, pinched);
-        break;
-      }
+      for (VertexId v : st.cell(c).v) found += v == t[0] || v == t[1] || v == t[2];
+      return found == 3;
+    };
+    CellId start = delaunay::kNoCell;
+    auto known = std::lower_bound(
+        known_pinches_.begin(), known_pinches_.end(), t,
+        [](const PinchedTriangle& p, const std::array<VertexId, 3>& x) { return p.triangle < x; });
+    for (; known != known_pinches_.end() && known->triangle == t && start == delaunay::kNoCell;
+         ++known)
+      for (const auto& [c, facet] : known->facets)
+        if (through(c)) {
+          start = c;
+          break;
+        }
+    for (std::size_t j = i; j < keys.size() && same_t(j) && start == delaunay::kNoCell; ++j)
+      if (through(keys[j].cell)) start = keys[j].cell;
+    if (start == delaunay::kNoCell) {
+      tri_.incident_cells(t[0], star);
+      for (CellId c : star)
+        if (through(c)) {
+          start = c;
+          break;
+        }
     }
+    if (start != delaunay::kNoCell) pinches_at(start, t, pinched);
   }
   return pinched->size() - before;
 }

@@ -22,7 +22,7 @@ TEST(PinchCounts, MatchesAMapUnderChurn) {
     int delta = coin(rng) < 6 ? 1 : -1;
     // Counts never go below 0 here (as in a sequential run).
     if (delta < 0 && reference[key] == 0) delta = 1;
-    counts.add(key, delta);
+    counts.add(key, delta, static_cast<std::uint32_t>(step));
     if ((reference[key] += delta) == 0) reference.erase(key);
     if (step % 5000 == 0 || step == 199999) {
       std::vector<PinchKey> pinched;
@@ -31,7 +31,9 @@ TEST(PinchCounts, MatchesAMapUnderChurn) {
         if (n > 2) pinched.push_back(k);
       }
       ASSERT_EQ(counts.size(), reference.size());
-      ASSERT_EQ(counts.pinched(), pinched);
+      std::vector<PinchKey> listed;
+      for (const auto& p : counts.pinched()) listed.push_back(p.key);
+      ASSERT_EQ(listed, pinched);
     }
   }
   EXPECT_EQ(counts.count({9, 1, 2, 3}), 0);
@@ -43,11 +45,18 @@ TEST(PinchCounts, AKeyBelowZeroForAWhileComesBack) {
   const PinchKey key{1, 4, 5, 6};
   counts.add(key, -1);
   EXPECT_EQ(counts.count(key), -1);
-  for (int i = 0; i < 4; ++i) counts.add(key, 1);
+  for (std::uint32_t cell = 10; cell < 14; ++cell) counts.add(key, 1, cell);
   EXPECT_EQ(counts.count(key), 3);
-  EXPECT_EQ(counts.pinched(), std::vector<PinchKey>{key});
+  ASSERT_EQ(counts.pinched().size(), 1u);
+  EXPECT_EQ(counts.pinched()[0].key, key);
+  // The cell of the change that took it above two.
+  EXPECT_EQ(counts.pinched()[0].cell, 13u);
   counts.add(key, -1);
   EXPECT_TRUE(counts.pinched().empty());
+  // Above two again: the new cell.
+  counts.add(key, 1, 20);
+  ASSERT_EQ(counts.pinched().size(), 1u);
+  EXPECT_EQ(counts.pinched()[0].cell, 20u);
 }
 
 }  // namespace
