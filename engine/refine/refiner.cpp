@@ -549,6 +549,8 @@ RefineResult Refiner::run(ProgressSink* sink) {
     if (tri_.store().is_live(c)) fresh.push_back(c);
   admit(fresh);
   drain(sink);
+  // The rules' counts, also for a job that refines faster than the report interval.
+  report(sink, Phase::refining, true);
   // Where three labels meet the rules guarantee no manifold boundary; sample more of ∂Ω there
   // and refine again. Points closer than half of Δ to a sampled one are allowed only when
   // nothing else is left or the count stalls, down to Δ/16, and a finer level that makes the
