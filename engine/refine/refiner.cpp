@@ -561,8 +561,8 @@ RefineResult Refiner::run(ProgressSink* sink) {
   bool counted_since = false;  // the repair's last count is still current
   RepairPolicy policy;
   for (int round = 0; round < kRepairRounds && min_spacing >= params_.delta / 16;) {
-    // The count a full scan gives (checked on the ventricle and the patients); after a round
-    // that inserted nothing it only looks at the pinches it knew.
+    // The count a full scan gives (the first one is a scan; later ones follow the facets that
+    // the round's insertions changed, which a test checks against scans).
     const std::size_t pinches = count_for_repair();
     counted_since = true;
     const RepairPolicy::Next next = policy.observe(pinches);
