@@ -195,6 +195,9 @@ Refiner::Rule Refiner::quick_rule(CellId c) const {
 Refiner::Rule Refiner::classify(Worker& w, CellId c, Point4* point, VertexKind* kind) {
   CellInfo& info = info_[c];
   if (!info.finite) return kNone;
+  // The neighbors' labels are read last (find_restricted_facet), after the cfp: their loads
+  // start now.
+  for (CellId n : tri_.store().cell(c).n) __builtin_prefetch(&info_[n]);
   if (!info.surface_known) {
     // What R1's cfp reads about the center. In a parallel phase this thread holds c.
     const auto facts = oracle_.facts(info.center, info.label);
@@ -531,6 +534,11 @@ void Refiner::drain_sequential(ProgressSink* sink) {
     if (!queue) return;
     const Candidate k = queue->back();
     queue->pop_back();
+    // The next candidate's pentatope was queued long ago: its loads start now.
+    if (!queue->empty()) {
+      __builtin_prefetch(&tri_.store().cell(queue->back().cell));
+      __builtin_prefetch(&info_[queue->back().cell]);
+    }
     if (!still_valid(k)) continue;
     if (++w.operations % 256 == 0) {
       if (sink && sink->should_abort()) throw Cancelled();
@@ -579,6 +587,7 @@ RefineResult Refiner::run(ProgressSink* sink) {
   if (counted_since) set_current_pinches(known_pinches_);
   counting_facets_ = false;
   pinch_counts_.clear();
+  refused_.clear();
   for (auto& w : workers_) w->facet_changes.clear();
 
   // What the repair leaves, relabeling closes; where it cannot (a pentatope that would have to

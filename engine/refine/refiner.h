@@ -13,6 +13,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <random>
@@ -62,6 +63,10 @@ class Refiner {
   /// Tests: every pinch count of the repair after its first is also taken by a full scan, and
   /// a difference (in the pinches, or in any triangle's count) throws std::logic_error.
   void set_pinch_count_check(bool on) { check_counts_ = on; }
+  /// Tests: every repair point skipped as refused in an earlier round is computed again, and
+  /// one that would now differ or go in throws std::logic_error; counts those checks.
+  void set_refused_point_check(bool on) { check_refused_ = on; }
+  std::size_t refused_points_rechecked() const { return refused_rechecked_; }
 
  private:
   struct Candidate {
@@ -214,6 +219,22 @@ class Refiner {
     std::array<mesh4d::VertexId, 3> triangle;              // sorted
     std::vector<std::pair<delaunay::CellId, int>> facets;  // (pentatope, facet index)
   };
+  // A pinched triangle's repair point that lay within the spacing of a feature vertex, and
+  // what it was computed from: per facet, its pentatope's and the neighbor's vertices (in
+  // order: a pentatope made again from them has the same circumcenter). While they hold, the
+  // point is the same and still refused (feature vertices are never removed), so later rounds
+  // at that spacing skip it: late rounds refused nearly all of about 1,300 points each.
+  struct RefusedPoint {
+    Point4 point;
+    double spacing;
+    std::vector<delaunay::CellId> neighbors;
+    std::vector<mesh4d::VertexId> vertices;
+  };
+  // t's repair point: the surface center of its largest restricted facet, and a pentatope
+  // that holds that facet; false when no facet's Voronoi edge crosses ∂Ω.
+  bool repair_point_of(const PinchedTriangle& t, Point4* point, delaunay::CellId* hint) const;
+  // Whether `refused` still describes the facets of `t` (the same pentatopes, neighbors).
+  bool still_refused(const PinchedTriangle& t, const RefusedPoint& refused, double spacing) const;
   // How many threads a read-only scan of `items` between parallel phases uses.
   unsigned scan_parts(std::size_t items) const;
   // Every pinch, from a scan of the whole triangulation.
@@ -304,11 +325,15 @@ class Refiner {
   FeatureIndex features_;
   mutable std::shared_mutex features_mutex_;
   std::vector<PinchedTriangle> known_pinches_;  // found by the last pinch count
+  // The last repair round's refused points, by their triangle's facets (still_refused()).
+  std::map<std::vector<std::pair<delaunay::CellId, int>>, RefusedPoint> refused_;
   // From the repair's first count to its end: counts kept from facet changes, which
   // insert_and_admit() logs meanwhile (count_from_facet_changes).
   bool counting_facets_ = false;
   PinchCounts pinch_counts_;
-  bool check_counts_ = false;  // set_pinch_count_check()
+  bool check_counts_ = false;   // set_pinch_count_check()
+  bool check_refused_ = false;  // set_refused_point_check()
+  std::size_t refused_rechecked_ = 0;
   std::vector<bool> shifted_;  // by cell: moved by relabel_pinches() without lowering the count
   std::vector<PinchedTriangle> current_pinches_;  // valid while pinches_current_
   bool pinches_current_ = false;  // no pentatope or label changed since they were counted

@@ -382,33 +382,80 @@ std::size_t Refiner::count_for_repair() {
   return found;
 }
 
+bool Refiner::repair_point_of(const PinchedTriangle& t, Point4* point, CellId* hint) const {
+  // The surface center of its largest restricted facet (the one the rules left coarsest).
+  const auto& st = tri_.store();
+  double largest = -1;
+  for (const auto& [c, i] : t.facets) {
+    const CellId n = st.cell(c).n[i];
+    if (st.is_infinite(n) || !info_[n].finite) continue;
+    const auto z = oracle_.first_crossing(info_[c].center, info_[n].center);
+    if (!z) continue;
+    const Point4& v = st.point(st.cell(c).v[(i + 1) % 5]);
+    double r2 = 0;
+    for (int k = 0; k < 4; ++k) r2 += (z->point[k] - v[k]) * (z->point[k] - v[k]);
+    if (r2 > largest) largest = r2, *point = z->point, *hint = c;
+  }
+  return largest >= 0;
+}
+
 std::size_t Refiner::repair_pinches(double min_spacing) {
-  const std::vector<PinchedTriangle>& pinched = known_pinches_;
-  // Per pinched triangle, the surface center of its largest restricted facet (the one the
-  // rules left coarsest); all are found before any goes in, as cells die with insertions.
+  // A point per pinched triangle; all are found before any goes in, as cells die with
+  // insertions.
   std::vector<RepairPoint> points;
   const auto& st = tri_.store();
-  for (const PinchedTriangle& t : pinched) {
-    double largest = -1;
-    Point4 best;
+  decltype(refused_) refused;  // this round's
+  for (const PinchedTriangle& t : known_pinches_) {
+    Point4 point;
     CellId hint = delaunay::kNoCell;
-    for (const auto& [c, i] : t.facets) {
-      const CellId n = st.cell(c).n[i];
-      if (st.is_infinite(n) || !info_[n].finite) continue;
-      const auto z = oracle_.first_crossing(info_[c].center, info_[n].center);
-      if (!z) continue;
-      const Point4& v = st.point(st.cell(c).v[(i + 1) % 5]);
-      double r2 = 0;
-      for (int k = 0; k < 4; ++k) r2 += (z->point[k] - v[k]) * (z->point[k] - v[k]);
-      if (r2 > largest) largest = r2, best = z->point, hint = c;
+    if (const auto it = refused_.find(t.facets);
+        it != refused_.end() && still_refused(t, it->second, min_spacing)) {
+      if (check_refused_) {
+        ++refused_rechecked_;
+        if (!repair_point_of(t, &point, &hint) || point != it->second.point ||
+            !feature_within(point, min_spacing))
+          throw std::logic_error("Refiner: a refused repair point would not be refused again");
+      }
+      refused.insert(refused_.extract(it));
+      continue;
     }
-    if (largest >= 0) {
-      RepairPoint r{best, {hint, {}}};
-      std::copy(std::begin(st.cell(hint).v), std::end(st.cell(hint).v), r.hint.v);
-      points.push_back(r);
+    if (!repair_point_of(t, &point, &hint)) continue;
+    // A point near a sampled one is refused (insert_repair_points() asks again, as points of
+    // this round go in first).
+    if (feature_within(point, min_spacing)) {
+      RefusedPoint& record = refused[t.facets];
+      record.point = point;
+      record.spacing = min_spacing;
+      for (const auto& [c, i] : t.facets) {
+        const CellId n = st.cell(c).n[i];
+        record.neighbors.push_back(n);
+        record.vertices.insert(record.vertices.end(), std::begin(st.cell(c).v),
+                               std::end(st.cell(c).v));
+        record.vertices.insert(record.vertices.end(), std::begin(st.cell(n).v),
+                               std::end(st.cell(n).v));
+      }
+      continue;
     }
+    RepairPoint r{point, {hint, {}}};
+    std::copy(std::begin(st.cell(hint).v), std::end(st.cell(hint).v), r.hint.v);
+    points.push_back(r);
   }
+  refused_ = std::move(refused);
   return insert_repair_points(points, min_spacing);
+}
+
+bool Refiner::still_refused(const PinchedTriangle& t, const RefusedPoint& refused,
+                            double spacing) const {
+  if (refused.spacing != spacing) return false;
+  const auto& st = tri_.store();
+  for (std::size_t k = 0; k < t.facets.size(); ++k) {
+    const auto [c, i] = t.facets[k];
+    const CellId n = refused.neighbors[k];
+    if (!st.still_holds(c, &refused.vertices[10 * k]) || st.cell(c).n[i] != n ||
+        !st.still_holds(n, &refused.vertices[10 * k + 5]))
+      return false;
+  }
+  return true;
 }
 
 }  // namespace mesh4d::refine

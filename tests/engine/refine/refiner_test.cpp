@@ -144,6 +144,24 @@ TEST(Refiner, PinchCountsFromFacetChangesMatchFullCounts) {
   }
 }
 
+// A repair point refused in one round (too near a sampled point) is skipped in later rounds
+// at that spacing while the pentatopes it was computed from stand. Here each skipped point is
+// computed again, and the refiner throws when it would now differ or go in.
+TEST(Refiner, RefusedRepairPointsStayRefused) {
+  auto image = domain::beating_ventricle_phantom();
+  domain::validate_and_close(image);
+  const domain::SurfaceOracle oracle(image);
+  RefineParams params;
+  params.delta = 5;
+  Refiner refiner(oracle, params);
+  refiner.set_refused_point_check(true);
+  RefineResult r;
+  ASSERT_NO_THROW(r = refiner.run());
+  std::printf("%zu refused repair points computed again\n", refiner.refused_points_rechecked());
+  EXPECT_GT(refiner.refused_points_rechecked(), 0u);
+  EXPECT_GT(r.stats.pentatopes, 0u);
+}
+
 // A real heart (../shared/data/heart4d, skipped where absent): cavity, myocardium and background
 // meet at the valve plane and at the time caps, where the rules alone leave pinched regions
 // and the repair and the relabeling must close them; at δ = 10 to stay fast.
