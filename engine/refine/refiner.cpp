@@ -166,7 +166,7 @@ bool Refiner::has_restricted_non_feature_facet(CellId c) const {
   const domain::Label own = info_[c].label;
   for (int i = 0; i < 5; ++i) {
     const CellId n = cell.n[i];
-    if (st.is_infinite(n) || !info_[n].finite || info_[n].label == own) continue;
+    if (!info_[n].finite || info_[n].label == own) continue;
     for (int k = 0; k < 5; ++k)
       if (k != i && st.vertex(cell.v[k]).kind != VertexKind::feature) return true;
   }
@@ -261,7 +261,7 @@ bool Refiner::find_restricted_facet(CellId c, Point4* surface_center,
   for (int i = 0; i < 5; ++i) {
     // The neighbor's label first: most facets are not restricted, and it is one read.
     const CellId n = cell.n[i];
-    if (st.is_infinite(n) || !info_[n].finite || info_[n].label == own.label) continue;
+    if (!info_[n].finite || info_[n].label == own.label) continue;
     bool all_feature = true;
     for (int k = 0; k < 5; ++k)
       if (k != i) all_feature &= st.vertex(cell.v[k]).kind == VertexKind::feature;

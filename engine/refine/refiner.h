@@ -122,8 +122,10 @@ class Refiner {
   };
   enum class Outcome { done, skipped, conflict };
   // What every rule asks of a pentatope, computed once when it is created: its circumball and
-  // the label at its center (valid for every live finite cell; slots are reused, so it is
-  // recomputed for each new cell in admit()).
+  // the label at its center (slots are reused, so it is recomputed for each new cell in
+  // admit()). Every live pentatope has one, the infinite ones too (not finite): a neighbor's
+  // info says whether it is infinite without a load of its record (the loads of neighbors'
+  // records were most of find_restricted_facet's time).
   struct CellInfo {
     Point4 center;
     double radius = 0;
@@ -259,7 +261,7 @@ class Refiner {
                   std::vector<delaunay::CellId>& cycle, std::vector<int>& crossed) const;
   // The label a pentatope has in the output (0: not output).
   domain::Label output_label(delaunay::CellId c) const {
-    return tri_.store().is_infinite(c) || !info_[c].finite ? 0 : info_[c].label;
+    return info_[c].finite ? info_[c].label : 0;
   }
   // Closes the pinches the repair left by moving a few pentatopes, all of whose vertices lie on
   // ∂Ω, to a neighboring label (refiner_relabel.cpp); returns how many pentatopes moved.

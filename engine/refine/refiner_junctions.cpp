@@ -77,11 +77,11 @@ std::size_t Refiner::count_pinches(std::vector<PinchedTriangle>* pinched,
   run_parts(parts, [&](unsigned part) {
     const auto [begin, end] = part_range(st.cell_slots(), part, parts);
     for (CellId c = static_cast<CellId>(begin); c < end; ++c) {
-      if (!st.is_live(c) || st.is_infinite(c) || !info_[c].finite || info_[c].label == 0) continue;
+      if (!st.is_live(c) || !info_[c].finite || info_[c].label == 0) continue;
       const auto& cell = st.cell(c);
       for (int i = 0; i < 5; ++i) {
         const CellId n = cell.n[i];
-        const domain::Label other = st.is_infinite(n) || !info_[n].finite ? 0 : info_[n].label;
+        const domain::Label other = info_[n].finite ? info_[n].label : 0;
         if (other == info_[c].label) continue;
         std::array<std::uint32_t, 4> facet;
         for (int k = 0, m = 0; k < 5; ++k)
@@ -388,7 +388,7 @@ bool Refiner::repair_point_of(const PinchedTriangle& t, Point4* point, CellId* h
   double largest = -1;
   for (const auto& [c, i] : t.facets) {
     const CellId n = st.cell(c).n[i];
-    if (st.is_infinite(n) || !info_[n].finite) continue;
+    if (!info_[n].finite) continue;
     const auto z = oracle_.first_crossing(info_[c].center, info_[n].center);
     if (!z) continue;
     const Point4& v = st.point(st.cell(c).v[(i + 1) % 5]);

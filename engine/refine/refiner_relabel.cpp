@@ -94,7 +94,7 @@ bool Refiner::movable(CellId c, Label from) const {
   // pentatope that enters the output (from the background) also meets the quality bounds that
   // R3 and R4 hold inside.
   const auto& st = tri_.store();
-  if (st.is_infinite(c) || !info_[c].finite) return false;
+  if (!info_[c].finite) return false;
   for (mesh4d::VertexId v : st.cell(c).v)
     if (st.vertex(v).kind != delaunay::VertexKind::feature) return false;
   if (from != 0 || info_[c].label == 0) return true;
