@@ -225,7 +225,8 @@ class Refiner {
   // what it was computed from: per facet, its pentatope's and the neighbor's vertices (in
   // order: a pentatope made again from them has the same circumcenter). While they hold, the
   // point is the same and still refused (feature vertices are never removed), so later rounds
-  // at that spacing skip it: late rounds refused nearly all of about 1,300 points each.
+  // at that spacing skip it (Pat05 at the paper's spacing: late rounds refused nearly all of
+  // about 1,300 points each).
   struct RefusedPoint {
     Point4 point;
     double spacing;
