@@ -39,7 +39,8 @@ using mesh4d::bench::status_kb;
 // Runs in a child: the oracle and refinement of `image` with `params`; fixed-size results only.
 struct Flat {
   std::uint64_t vertices, pentatopes, boundary, insertions, off_surface, pinched, relabeled;
-  double shortest, rho_max, rho_mean, rho_std, tau_min, tau_mean, tau_std, seconds, peak_mb;
+  double shortest, rho_max, rho_mean, rho_std, tau_min, tau_mean, tau_std, seconds, peak_mb,
+      repair_seconds;
   bool ok;
 };
 
@@ -68,6 +69,7 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
              r.stats.normalized_volume.stddev,
              r.stats.elapsed_seconds,
              status_kb("VmHWM:") / 1024.0,
+             r.repair_seconds,
              true};
     for (auto n : r.stats.insertions) out.insertions += n;
     return out;
@@ -94,13 +96,13 @@ void row(const char* name, const domain::LabelImage4& image, double delta,
   }
   std::printf(
       "| %s | %s | %g | %llu | %llu | %llu | %.2f | %.2f / %.2f / %.2f | %.4f / %.2f / %.2f | "
-      "%.2f | %.0f | %llu | %.0f | %llu | %llu | %llu |\n",
+      "%.2f | %.0f | %llu | %.0f | %llu | %llu | %llu | %.2f |\n",
       name, order == refine::RuleOrder::r3_first ? "R3 first" : "paper", delta,
       (unsigned long long)f.pentatopes, (unsigned long long)f.boundary,
       (unsigned long long)f.vertices, f.shortest, f.rho_max, f.rho_mean, f.rho_std, f.tau_min,
       f.tau_mean, f.tau_std, f.seconds, f.pentatopes / f.seconds, (unsigned long long)f.insertions,
       f.peak_mb, (unsigned long long)f.off_surface, (unsigned long long)f.pinched,
-      (unsigned long long)f.relabeled);
+      (unsigned long long)f.relabeled, f.repair_seconds);
   std::fflush(stdout);
 }
 
@@ -118,8 +120,8 @@ int main(int argc, char** argv) {
       "| input | rule order | δ | pentatopes | boundary tets | vertices | shortest edge | "
       "radius-edge max / mean / std | normalized volume min / mean / std | time s | "
       "pentatopes/s | insertions | peak MB | boundary vertex uses off ∂Ω | pinched triangles "
-      "| relabeled pentatopes "
-      "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "| relabeled pentatopes | of the time, pinch repair s "
+      "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   const auto sphere = domain::hypersphere_phantom({32, 32, 32, 32}, {1, 1, 1, 1}, 12);
   row("hypersphere r=12", sphere, 2, refine::RuleOrder::r3_first);
   row("hypersphere r=12", sphere, 2, refine::RuleOrder::paper);

@@ -565,6 +565,7 @@ RefineResult Refiner::run(ProgressSink* sink) {
   // count grow ends the repair (RepairPolicy): the work stays bounded. (Starting at a quarter
   // of Δ, the short edges of the points squeezed in set off the radius-edge rule around them:
   // on the ventricle the repair then doubled the mesh after the rules, for the same fidelity.)
+  const auto repair_start = std::chrono::steady_clock::now();
   double min_spacing = 0.5 * params_.delta;
   bool counted_since = false;  // the repair's last count is still current
   RepairPolicy policy;
@@ -589,6 +590,8 @@ RefineResult Refiner::run(ProgressSink* sink) {
   pinch_counts_.clear();
   refused_.clear();
   for (auto& w : workers_) w->facet_changes.clear();
+  const double repair_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - repair_start).count();
 
   // What the repair leaves, relabeling closes; where it cannot (a pentatope that would have to
   // move has a free vertex), those free vertices go, the rules run again, and so on, a few times.
@@ -617,6 +620,7 @@ RefineResult Refiner::run(ProgressSink* sink) {
   result.contention_seconds = done.contention_seconds;
   result.idle_seconds = done.idle_seconds;
   result.rules_seconds = rules_seconds_;
+  result.repair_seconds = repair_seconds;
   result.stats.elapsed_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   return result;

@@ -160,6 +160,9 @@ TEST(Refiner, RefusedRepairPointsStayRefused) {
   std::printf("%zu refused repair points computed again\n", refiner.refused_points_rechecked());
   EXPECT_GT(refiner.refused_points_rechecked(), 0u);
   EXPECT_GT(r.stats.pentatopes, 0u);
+  // The repair ran (its rounds refused points), and its time is a part of the whole.
+  EXPECT_GT(r.repair_seconds, 0);
+  EXPECT_LT(r.repair_seconds, r.stats.elapsed_seconds);
 }
 
 // A real heart (../shared/data/heart4d, skipped where absent): cavity, myocardium and background
