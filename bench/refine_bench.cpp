@@ -9,7 +9,9 @@
 // cycle against each frame meshed alone by CGAL Mesh_3 (frames_comparison.h).
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -78,9 +80,12 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
 }
 
 // --only TEXT: run just the rows whose name contains TEXT; --junction-spacing X: that spacing
-// (relative to Δ) instead of the default, 0 for none.
+// (relative to Δ) instead of the default, 0 for none; --seed N: that seed for the random
+// picking instead of the default (the mesh, and so its size and time, depend on it: several
+// seeds show how much of a difference between two builds is the mesh's and how much the code's).
 std::string g_only;
 double g_junction_spacing = refine::RefineParams{}.junction_spacing;
+std::uint64_t g_seed = refine::RefineParams{}.seed;
 
 void row(const char* name, const domain::LabelImage4& image, double delta,
          refine::RuleOrder order) {
@@ -89,6 +94,7 @@ void row(const char* name, const domain::LabelImage4& image, double delta,
   params.delta = delta;
   params.rule_order = order;
   params.junction_spacing = g_junction_spacing;
+  params.seed = g_seed;
   const Flat f = run_child(image, params);
   if (!f.ok) {
     std::printf("| %s | run failed |\n", name);
@@ -113,9 +119,10 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--only") == 0) g_only = argv[i + 1];
     if (std::strcmp(argv[i], "--junction-spacing") == 0)
       g_junction_spacing = std::atof(argv[i + 1]);
+    if (std::strcmp(argv[i], "--seed") == 0) g_seed = std::strtoull(argv[i + 1], nullptr, 10);
   }
-  std::printf("Sequential refinement (R1-R5), one thread, junction spacing %g delta\n",
-              g_junction_spacing);
+  std::printf("Sequential refinement (R1-R5), one thread, junction spacing %g delta, seed %llu\n",
+              g_junction_spacing, static_cast<unsigned long long>(g_seed));
   std::printf(
       "| input | rule order | δ | pentatopes | boundary tets | vertices | shortest edge | "
       "radius-edge max / mean / std | normalized volume min / mean / std | time s | "
