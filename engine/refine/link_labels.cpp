@@ -41,27 +41,45 @@ int split_labels(const std::vector<Label>& labels) {
 std::vector<LinkMoves> joining_moves(const std::vector<Label>& labels, Label l) {
   const std::size_t n = labels.size();
   std::vector<LinkMoves> out;
-  if (label_arcs(labels, l, true).size() < 2) return out;
-  const auto all_but_longest = [](std::vector<Arc> runs) {
-    std::iter_swap(runs.begin(),
-                   std::max_element(runs.begin(), runs.end(), [](const Arc& a, const Arc& b) {
-                     return a.length < b.length;
-                   }));
-    runs.erase(runs.begin());
-    return runs;
+  const std::vector<Arc> arcs = label_arcs(labels, l, true), gaps = label_arcs(labels, l, false);
+  if (arcs.size() < 2) return out;
+  // The run each option keeps: the longest first (the fewest moves), then every other one (a
+  // tie, or the longest run's pentatopes may not move: around a triangle of Pat05 at the
+  // paper's spacing, seed 5, gaps of three background and three myocardium pentatopes, the
+  // myocardium's with free vertices, kept one pinch open when only the first gap was kept).
+  const auto kept_order = [](const std::vector<Arc>& runs) {
+    std::vector<std::size_t> order(runs.size());
+    for (std::size_t i = 0; i < runs.size(); ++i) order[i] = i;
+    const auto longest = std::max_element(
+        runs.begin(), runs.end(), [](const Arc& a, const Arc& b) { return a.length < b.length; });
+    std::rotate(order.begin(), order.begin() + (longest - runs.begin()),
+                order.begin() + (longest - runs.begin()) + 1);
+    return order;
   };
-  LinkMoves fill;
-  for (const Arc& gap : all_but_longest(label_arcs(labels, l, false)))
-    for (std::size_t k = 0; k < gap.length; ++k) fill.emplace_back((gap.begin + k) % n, l);
-  out.push_back(std::move(fill));
-  for (int side = 0; side < 2; ++side) {
-    LinkMoves cut;
-    for (const Arc& arc : all_but_longest(label_arcs(labels, l, true))) {
+  const auto fill = [&](std::size_t kept) {
+    LinkMoves moves;
+    for (std::size_t g = 0; g < gaps.size(); ++g)
+      if (g != kept)
+        for (std::size_t k = 0; k < gaps[g].length; ++k)
+          moves.emplace_back((gaps[g].begin + k) % n, l);
+    return moves;
+  };
+  const auto cut = [&](std::size_t kept, int side) {
+    LinkMoves moves;
+    for (std::size_t a = 0; a < arcs.size(); ++a) {
+      if (a == kept) continue;
+      const Arc& arc = arcs[a];
       const Label next =
           side == 0 ? labels[(arc.begin + n - 1) % n] : labels[(arc.begin + arc.length) % n];
-      for (std::size_t k = 0; k < arc.length; ++k) cut.emplace_back((arc.begin + k) % n, next);
+      for (std::size_t k = 0; k < arc.length; ++k) moves.emplace_back((arc.begin + k) % n, next);
     }
-    out.push_back(std::move(cut));
+    return moves;
+  };
+  const std::vector<std::size_t> gap_order = kept_order(gaps), arc_order = kept_order(arcs);
+  for (std::size_t i = 0; i < gaps.size(); ++i) {
+    out.push_back(fill(gap_order[i]));
+    out.push_back(cut(arc_order[i], 0));
+    out.push_back(cut(arc_order[i], 1));
   }
   return out;
 }

@@ -27,9 +27,10 @@ int split_labels(const std::vector<domain::Label>& labels);
 /// A relabeling of some positions: (position, new label).
 using LinkMoves = std::vector<std::pair<std::size_t, domain::Label>>;
 
-/// The ways to join label l's arcs into one: fill every gap but the longest with l; or give
-/// every arc of l but the longest the label just before it; or just after it. Empty when l
-/// has fewer than two arcs.
+/// The ways to join label l's arcs into one: fill every gap but one with l; or give every arc
+/// of l but one the label just before it; or just after it. Three options for each run kept,
+/// the longest gap and arc first (their options need the fewest moves), then the others in
+/// cycle order. Empty when l has fewer than two arcs.
 std::vector<LinkMoves> joining_moves(const std::vector<domain::Label>& labels, domain::Label l);
 
 }  // namespace mesh4d::refine

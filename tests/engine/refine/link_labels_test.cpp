@@ -45,7 +45,7 @@ TEST(LinkLabels, JoiningMovesLeaveTheLabelInOneArc) {
         EXPECT_TRUE(options.empty());
         continue;
       }
-      ASSERT_EQ(options.size(), 3u);
+      ASSERT_EQ(options.size(), 3 * label_arcs(labels, l, true).size());
       for (const LinkMoves& o : options) {
         EXPECT_FALSE(o.empty());
         EXPECT_EQ(label_arcs(applied(labels, o), l, true).size(), 1u);
@@ -58,13 +58,33 @@ TEST(LinkLabels, FillingKeepsTheLongestGapAndCuttingTheLongestArc) {
   // 1 are {0} and {4}, equally long: cutting moves one of them to a neighbor's label.
   const Labels labels{1, 0, 0, 0, 1, 2};
   const auto options = joining_moves(labels, 1);
-  ASSERT_EQ(options.size(), 3u);
+  ASSERT_EQ(options.size(), 6u);
   EXPECT_EQ(options[0], (LinkMoves{{5, 1}}));
   EXPECT_EQ(options[1].size(), 1u);
   EXPECT_EQ(options[2].size(), 1u);
+  // Then the options that keep the other gap and the other arc.
+  EXPECT_EQ(options[3], (LinkMoves{{1, 1}, {2, 1}, {3, 1}}));
+  EXPECT_EQ(options[4].size(), 1u);
+  EXPECT_NE(options[4], options[1]);
   // The checkerboard {2 2 1 2 2 1 1}: giving the lone 1 to label 2 joins both labels at once.
   EXPECT_EQ(
       split_labels(applied({2, 2, 1, 2, 2, 1, 1}, joining_moves({2, 2, 1, 2, 2, 1, 1}, 2)[0])), 0);
+}
+
+TEST(LinkLabels, EveryGapCanBeTheOneKept) {
+  // 1 0 0 0 1 2 2 2: two gaps of three. Where the 2s cannot move (free vertices), filling the
+  // background gap is the only way to join the 1s; both fills are offered.
+  const Labels labels{1, 0, 0, 0, 1, 2, 2, 2};
+  const auto options = joining_moves(labels, 1);
+  ASSERT_EQ(options.size(), 6u);
+  bool fills_background = false, fills_twos = false;
+  for (const LinkMoves& o : options) {
+    EXPECT_EQ(label_arcs(applied(labels, o), 1, true).size(), 1u);
+    fills_background = fills_background || o == LinkMoves{{1, 1}, {2, 1}, {3, 1}};
+    fills_twos = fills_twos || o == LinkMoves{{5, 1}, {6, 1}, {7, 1}};
+  }
+  EXPECT_TRUE(fills_background);
+  EXPECT_TRUE(fills_twos);
 }
 
 }  // namespace
