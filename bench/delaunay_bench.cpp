@@ -5,6 +5,8 @@
 // through /proc/self/clear_refs) belongs to that triangulation alone. Prints points/s,
 // pentatopes, peak bytes per pentatope, the ratios, and mesh4d's exact-fallback rate.
 //
+// Then vertex removal (the refiner's R5) against CGAL's remove(), after the same insertions.
+//
 //   delaunay_bench [--max-n N] [--repeats R]     (defaults: 1000000, 3; N ≥ 10⁶ runs once)
 #include <CGAL/Delaunay_triangulation.h>
 #include <CGAL/Epick_d.h>
@@ -81,6 +83,47 @@ Measure run_cgal(const std::vector<Point4>& pts) {
   return m;
 }
 
+// Vertex removal (the refiner's R5): the triangulation of all points is built untimed, then the
+// vertices of `doomed` (indices into pts, interior points) are removed one by one, timed.
+// cells: finite pentatopes at the end, the same for both when both are right.
+Measure remove_mesh4d(const std::vector<Point4>& pts, const std::vector<std::size_t>& doomed) {
+  Measure m;
+  mesh4d::delaunay::Triangulation t;
+  std::vector<mesh4d::VertexId> ids;
+  mesh4d::delaunay::CellId hint = mesh4d::delaunay::kNoCell;
+  for (const Point4& p : pts) {
+    const auto r = t.insert(p, mesh4d::delaunay::VertexKind::free, hint);
+    ids.push_back(r.vertex);
+    hint = r.cell;
+  }
+  std::vector<mesh4d::delaunay::CellId> created;
+  std::size_t refused = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (std::size_t i : doomed) {
+    created.clear();
+    refused += !t.remove(ids[i], &created);
+  }
+  m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  m.cells = refused ? -1 : double(t.number_of_finite_cells());
+  return m;
+}
+
+Measure remove_cgal(const std::vector<Point4>& pts, const std::vector<std::size_t>& doomed) {
+  Measure m;
+  CgalDelaunay dt(4);
+  std::vector<CgalDelaunay::Vertex_handle> handles;
+  CgalDelaunay::Full_cell_handle hint;
+  for (const Point4& p : pts) {
+    handles.push_back(dt.insert(Kernel::Point_d(p[0], p[1], p[2], p[3]), hint));
+    hint = handles.back()->full_cell();
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  for (std::size_t i : doomed) dt.remove(handles[i]);
+  m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  m.cells = double(dt.number_of_finite_full_cells());
+  return m;
+}
+
 // Runs f in a child process (fresh peak-memory counter) and returns its Measure.
 template <class F>
 Measure in_child(F f) {
@@ -123,6 +166,34 @@ void row(const char* input, const std::vector<Point4>& unsorted, int repeats) {
       input, n, repeats, n / a.seconds, n / b.seconds, b.seconds / a.seconds, a.cells, b.cells,
       a.peak_bytes / a.cells, b.peak_bytes / b.cells, a.dynamic_per_point,
       a.double_double_per_point, a.exact_per_point);
+  std::fflush(stdout);
+}
+
+// Removes every tenth point (in spatial order) that lies at least `margin` inside the points'
+// bounding box (so none is a hull vertex, which mesh4d refuses to remove).
+void removal_row(const char* input, const std::vector<Point4>& unsorted, double margin,
+                 int repeats) {
+  std::vector<Point4> pts;
+  for (std::size_t i : mesh4d::delaunay::spatial_order(unsorted)) pts.push_back(unsorted[i]);
+  Point4 lo = pts[0], hi = pts[0];
+  for (const Point4& p : pts)
+    for (int k = 0; k < 4; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+  std::vector<std::size_t> doomed;
+  for (std::size_t i = 0; i < pts.size(); i += 10) {
+    bool inside = true;
+    for (int k = 0; k < 4; ++k)
+      inside = inside && pts[i][k] > lo[k] + margin && pts[i][k] < hi[k] - margin;
+    if (inside) doomed.push_back(i);
+  }
+  std::vector<Measure> ours, theirs;
+  for (int r = 0; r < repeats; ++r) {
+    ours.push_back(in_child([&] { return remove_mesh4d(pts, doomed); }));
+    theirs.push_back(in_child([&] { return remove_cgal(pts, doomed); }));
+  }
+  const Measure a = median(ours), b = median(theirs);
+  const double n = double(doomed.size());
+  std::printf("| %s | %zu | %.0f | %d | %.0f | %.0f | %.2fx | %.0f | %.0f |\n", input, pts.size(),
+              n, repeats, n / a.seconds, n / b.seconds, b.seconds / a.seconds, a.cells, b.cells);
   std::fflush(stdout);
 }
 
@@ -169,5 +240,12 @@ int main(int argc, char** argv) {
   }
   const int k = max_n >= 1'000'000 ? 20 : 12;
   row(("jittered grid " + std::to_string(k) + "^4").c_str(), jittered_grid(k, 7), repeats);
+
+  std::printf(
+      "\n4D Delaunay vertex removal (every tenth interior point, one at a time); medians\n"
+      "| input | N | removals | runs | mesh4d removals/s | CGAL removals/s | ratio | mesh4d "
+      "pentatopes after | CGAL pentatopes after |\n|---|---|---|---|---|---|---|---|---|\n");
+  removal_row("uniform", uniform(20'000, 5), 10, repeats);
+  removal_row("jittered grid 10^4 (±1e-12)", jittered_grid(10, 9), 1.5, repeats);
   return 0;
 }
