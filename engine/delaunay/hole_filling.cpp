@@ -15,8 +15,17 @@ FacetKey facet_key(const VertexId v[5], int opposite) {
   FacetKey key;
   for (int i = 0, k = 0; i < 5; ++i)
     if (i != opposite) key[k++] = v[i];
-  std::sort(key.begin(), key.end());
+  // A sorting network: five compare-exchanges, no calls (std::sort was a tenth of a removal).
+  const auto order = [&](int i, int j) {
+    const VertexId lo = std::min(key[i], key[j]), hi = std::max(key[i], key[j]);
+    key[i] = lo, key[j] = hi;
+  };
+  order(0, 1), order(2, 3), order(0, 2), order(1, 3), order(1, 2);
   return key;
+}
+
+bool same_key(const FacetKey& a, const FacetKey& b) {
+  return ((a[0] ^ b[0]) | (a[1] ^ b[1]) | (a[2] ^ b[2]) | (a[3] ^ b[3])) == 0;
 }
 
 // Facets by their sorted vertex ids, each with the one pentatope seen on it so far (a fill index,
@@ -45,7 +54,7 @@ class FacetTable {
                     (key[3] * 0x27D4EB2Fu);
     for (std::size_t i = (h ^ (h >> 15)) & mask_;; i = (i + 1) & mask_) {
       Entry& e = entries_[i];
-      if (e.key == key) return &e;
+      if (same_key(e.key, key)) return &e;
       if (e.key[0] == kNoVertex) {
         e = {key, 0, 0, false};
         ++count_;
@@ -136,19 +145,23 @@ class ApexSearch {
   }
 
   bool ok() const { return ok_; }
-  // The distance of u from the facet's hyperplane, positive on the open side (orient4's sign
-  // where it is not too small to trust).
-  double height(const Point4& u) const {
+  // The distance of u from the facet's hyperplane times |normal|, positive on the open side
+  // (orient4's sign where it is not too small to trust).
+  double scaled_height(const Point4& u) const {
     double h = 0;
     for (int k = 0; k < 4; ++k) h += normal_[k] * (u[k] - (*f_[0])[k]);
-    return h / normal_norm_;
+    return h;
   }
-  // Heights below this may have the wrong sign.
-  double uncertain_height() const { return 1e-9 * scale_; }
-  // Ranks the spheres through the facet and u (u on the open side, at height h): twice how far
-  // the center lies towards that side. The sphere of smallest rank holds no other point there.
-  double rank(const Point4& u, double h) const {
-    return (squared_distance(u, center_) - radius2_) / h;
+  // Scaled heights below this may have the wrong sign.
+  double uncertain_height() const { return 1e-9 * scale_ * normal_norm_; }
+  // The spheres through the facet and u (u on the open side, at scaled height h) are ranked by
+  // twice how far their center lies towards that side, (|u − c|² − r²) |normal| / h: the sphere
+  // of smallest rank holds no other point there. power(u) is the numerator's first factor, so
+  // that candidates compare by cross-multiplying (no division per link vertex).
+  double power(const Point4& u) const { return squared_distance(u, center_) - radius2_; }
+  double rank(double power, double h) const { return power * normal_norm_ / h; }
+  bool ranks_within(double power, double h, double limit) const {
+    return power * normal_norm_ <= limit * h;
   }
   // Ranks closer than this to each other are compared exactly.
   double rank_margin(double rank) const { return 1e-7 * (std::abs(rank) + scale_); }
@@ -169,33 +182,44 @@ class ApexSearch {
 };
 
 // The link vertex that completes the facet opposite `slot` of `a` into a Delaunay pentatope on
-// that side; kNoVertex when none is found.
+// that side; kNoVertex when none is found. `points` are the link vertices' points, gathered once
+// per hole (each is read for every facet the wrap opens).
 VertexId find_apex(const PentatopeStore& store, VertexId a[5], int slot,
-                   const std::vector<VertexId>& link, std::vector<VertexId>& close) {
+                   const std::vector<VertexId>& link, const std::vector<Point4>& points,
+                   std::vector<VertexId>& close) {
   const ApexSearch search(store, a, slot);
   if (!search.ok()) return kNoVertex;
   const double uncertain = search.uncertain_height();
-  thread_local std::vector<std::pair<VertexId, double>> ranked;
+  struct Ranked {
+    VertexId u;
+    double power, height;
+  };
+  thread_local std::vector<Ranked> ranked;
   ranked.clear();
   close.clear();
+  // The best so far as a fraction power / height (heights are positive here).
   VertexId best = kNoVertex;
-  double best_rank = INFINITY;
-  for (VertexId u : link) {
+  double best_power = 0, best_height = 0;
+  for (std::size_t i = 0; i < link.size(); ++i) {
+    const VertexId u = link[i];
     if (u == a[0] || u == a[1] || u == a[2] || u == a[3] || u == a[4]) continue;
-    const Point4& p = store.point(u);
-    const double h = search.height(p);
+    const double h = search.scaled_height(points[i]);
     if (h <= uncertain) {
       if (h > -uncertain) close.push_back(u);  // its side is decided exactly below
       continue;
     }
-    const double r = search.rank(p, h);
-    ranked.emplace_back(u, r);
-    if (r < best_rank) best_rank = r, best = u;
+    const double power = search.power(points[i]);
+    ranked.push_back({u, power, h});
+    if (best == kNoVertex || power * best_height < best_power * h)
+      best = u, best_power = power, best_height = h;
   }
   // Candidates ranked within rounding of the best are compared exactly (with the tie-break).
-  const double margin = search.rank_margin(best_rank);
-  for (const auto& [u, r] : ranked)
-    if (u != best && r <= best_rank + margin) close.push_back(u);
+  if (best != kNoVertex) {
+    const double best_rank = search.rank(best_power, best_height);
+    const double limit = best_rank + search.rank_margin(best_rank);
+    for (const Ranked& r : ranked)
+      if (r.u != best && search.ranks_within(r.power, r.height, limit)) close.push_back(r.u);
+  }
   const VertexId keep = a[slot];
   for (VertexId u : close) {
     a[slot] = u;
@@ -260,6 +284,9 @@ bool wrap_hole(const PentatopeStore& store, const std::vector<HoleFacet>& hole,
   thread_local FacetTable table;
   thread_local std::vector<Open> work;
   thread_local std::vector<VertexId> close;
+  thread_local std::vector<Point4> points;
+  points.clear();
+  for (VertexId u : link) points.push_back(store.point(u));
   fill.clear();
   work.clear();
   table.reset(3 * hole.size());
@@ -279,7 +306,7 @@ bool wrap_hole(const PentatopeStore& store, const std::vector<HoleFacet>& hole,
     FacetTable::Entry* e = table.find(facet_key(o.a, o.slot));
     if (!e) return false;
     if (!e->open) continue;
-    const VertexId apex = find_apex(store, o.a, o.slot, link, close);
+    const VertexId apex = find_apex(store, o.a, o.slot, link, points, close);
     if (apex == kNoVertex || fill.size() >= limit) return false;
     const auto x = static_cast<std::int32_t>(fill.size());
     FillCell cell;
