@@ -145,20 +145,33 @@ class ApexSearch {
   }
 
   bool ok() const { return ok_; }
-  // The distance of u from the facet's hyperplane times |normal|, positive on the open side
-  // (orient4's sign where it is not too small to trust).
-  double scaled_height(const Point4& u) const {
-    double h = 0;
-    for (int k = 0; k < 4; ++k) h += normal_[k] * (u[k] - (*f_[0])[k]);
-    return h;
-  }
-  // Scaled heights below this may have the wrong sign.
+  // Heights below this may have the wrong sign (see measure()).
   double uncertain_height() const { return 1e-9 * scale_ * normal_norm_; }
-  // The spheres through the facet and u (u on the open side, at scaled height h) are ranked by
-  // twice how far their center lies towards that side, (|u − c|² − r²) |normal| / h: the sphere
-  // of smallest rank holds no other point there. power(u) is the numerator's first factor, so
-  // that candidates compare by cross-multiplying (no division per link vertex).
-  double power(const Point4& u) const { return squared_distance(u, center_) - radius2_; }
+  // For n points u given by coordinate arrays: height, the distance of u from the facet's
+  // hyperplane times |normal|, positive on the open side (orient4's sign where it is not too
+  // small to trust); and power, |u − c|² − r² for the facet's circumsphere (c, r). The spheres
+  // through the facet and a point on the open side rank by twice how far their center lies
+  // towards that side, power |normal| / height: the sphere of smallest rank holds no other point
+  // there. Candidates compare by cross-multiplying (no division per link vertex), and the pass
+  // has no branch (the compiler vectorizes it): the wrap asks it of every link vertex for every
+  // facet it opens.
+  void measure(const double* const xyzt[4], std::size_t n, double* __restrict height,
+               double* __restrict power) const {
+    const double* __restrict x = xyzt[0];
+    const double* __restrict y = xyzt[1];
+    const double* __restrict z = xyzt[2];
+    const double* __restrict t = xyzt[3];
+    const Point4& f = *f_[0];
+    const double n0 = normal_[0], n1 = normal_[1], n2 = normal_[2], n3 = normal_[3];
+    const double c0 = center_[0], c1 = center_[1], c2 = center_[2], c3 = center_[3];
+    const double f0 = f[0], f1 = f[1], f2 = f[2], f3 = f[3], r2 = radius2_;
+    for (std::size_t i = 0; i < n; ++i) {
+      height[i] = n0 * (x[i] - f0) + n1 * (y[i] - f1) + n2 * (z[i] - f2) + n3 * (t[i] - f3);
+      const double d0 = x[i] - c0, d1 = y[i] - c1, d2 = z[i] - c2, d3 = t[i] - c3;
+      power[i] = d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3 - r2;
+    }
+  }
+
   double rank(double power, double h) const { return power * normal_norm_ / h; }
   bool ranks_within(double power, double h, double limit) const {
     return power * normal_norm_ <= limit * h;
@@ -182,10 +195,10 @@ class ApexSearch {
 };
 
 // The link vertex that completes the facet opposite `slot` of `a` into a Delaunay pentatope on
-// that side; kNoVertex when none is found. `points` are the link vertices' points, gathered once
-// per hole (each is read for every facet the wrap opens).
+// that side; kNoVertex when none is found. `xyzt` are the link vertices' coordinates, gathered
+// once per hole (each is read for every facet the wrap opens).
 VertexId find_apex(const PentatopeStore& store, VertexId a[5], int slot,
-                   const std::vector<VertexId>& link, const std::vector<Point4>& points,
+                   const std::vector<VertexId>& link, const double* const xyzt[4],
                    std::vector<VertexId>& close) {
   const ApexSearch search(store, a, slot);
   if (!search.ok()) return kNoVertex;
@@ -195,20 +208,24 @@ VertexId find_apex(const PentatopeStore& store, VertexId a[5], int slot,
     double power, height;
   };
   thread_local std::vector<Ranked> ranked;
+  thread_local std::vector<double> heights, powers;
   ranked.clear();
   close.clear();
+  heights.resize(link.size());
+  powers.resize(link.size());
+  search.measure(xyzt, link.size(), heights.data(), powers.data());
   // The best so far as a fraction power / height (heights are positive here).
   VertexId best = kNoVertex;
   double best_power = 0, best_height = 0;
   for (std::size_t i = 0; i < link.size(); ++i) {
     const VertexId u = link[i];
     if (u == a[0] || u == a[1] || u == a[2] || u == a[3] || u == a[4]) continue;
-    const double h = search.scaled_height(points[i]);
+    const double h = heights[i];
     if (h <= uncertain) {
       if (h > -uncertain) close.push_back(u);  // its side is decided exactly below
       continue;
     }
-    const double power = search.power(points[i]);
+    const double power = powers[i];
     ranked.push_back({u, power, h});
     if (best == kNoVertex || power * best_height < best_power * h)
       best = u, best_power = power, best_height = h;
@@ -284,9 +301,13 @@ bool wrap_hole(const PentatopeStore& store, const std::vector<HoleFacet>& hole,
   thread_local FacetTable table;
   thread_local std::vector<Open> work;
   thread_local std::vector<VertexId> close;
-  thread_local std::vector<Point4> points;
-  points.clear();
-  for (VertexId u : link) points.push_back(store.point(u));
+  thread_local std::vector<double> coordinates[4];
+  for (int k = 0; k < 4; ++k) {
+    coordinates[k].resize(link.size());
+    for (std::size_t i = 0; i < link.size(); ++i) coordinates[k][i] = store.point(link[i])[k];
+  }
+  const double* const xyzt[4] = {coordinates[0].data(), coordinates[1].data(),
+                                 coordinates[2].data(), coordinates[3].data()};
   fill.clear();
   work.clear();
   table.reset(3 * hole.size());
@@ -306,7 +327,7 @@ bool wrap_hole(const PentatopeStore& store, const std::vector<HoleFacet>& hole,
     FacetTable::Entry* e = table.find(facet_key(o.a, o.slot));
     if (!e) return false;
     if (!e->open) continue;
-    const VertexId apex = find_apex(store, o.a, o.slot, link, points, close);
+    const VertexId apex = find_apex(store, o.a, o.slot, link, xyzt, close);
     if (apex == kNoVertex || fill.size() >= limit) return false;
     const auto x = static_cast<std::int32_t>(fill.size());
     FillCell cell;
