@@ -25,7 +25,8 @@ bool Triangulation::collect_star(VertexId v, std::vector<CellId>& star, CellGuar
   // pentatopes: the ones seen go in a small open-addressing set (a linear search of the star
   // for each neighbor was 5 % of the refinement). Local, so that const readers may run at once.
   std::size_t size = 256;
-  std::vector<CellId> seen(size, kNoCell);
+  thread_local std::vector<CellId> seen;  // reused: a heap block per call cost more than filling
+  seen.assign(size, kNoCell);
   const auto insert = [&](CellId c) {
     for (std::size_t i = (c * 0x9E3779B1u) & (size - 1);; i = (i + 1) & (size - 1)) {
       if (seen[i] == c) return false;
@@ -97,11 +98,12 @@ Triangulation::RemoveResult Triangulation::remove(VertexId v, std::vector<CellId
 
   // With a guard, the star's pentatopes are claimed (so all of v's link is held); the
   // pentatopes beyond the link's facets share four held vertices and need no claim.
-  std::vector<CellId> star;
+  thread_local std::vector<CellId> star;
   if (!collect_star(v, star, guard)) return RemoveResult::conflict;
   // The link's vertices, each once (in the order first seen: the wrap does not depend on it; a
   // sort of the star's 600 vertex ids was a twentieth of a removal).
-  std::vector<VertexId> link;
+  thread_local std::vector<VertexId> link;
+  link.clear();
   {
     std::size_t size = 64;
     while (size < 8 * star.size()) size *= 2;
