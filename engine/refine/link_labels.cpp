@@ -75,8 +75,9 @@ std::vector<LinkMoves> joining_moves(const std::vector<Label>& labels, Label l) 
     }
     return moves;
   };
+  // As many gaps as arcs: they alternate around the cycle.
   const std::vector<std::size_t> gap_order = kept_order(gaps), arc_order = kept_order(arcs);
-  for (std::size_t i = 0; i < gaps.size(); ++i) {
+  for (std::size_t i = 0; i < arcs.size(); ++i) {
     out.push_back(fill(gap_order[i]));
     out.push_back(cut(arc_order[i], 0));
     out.push_back(cut(arc_order[i], 1));
