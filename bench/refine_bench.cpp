@@ -16,6 +16,7 @@
 #include <fstream>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "bench_util.h"
 #include "domain/image_io.h"
@@ -83,32 +84,77 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
 // (relative to Δ) instead of the default, 0 for none; --seed N: that seed for the random
 // picking instead of the default (the mesh, and so its size and time, depend on it: several
 // seeds show how much of a difference between two builds is the mesh's and how much the code's).
+// --seeds A,B,C: each row once per seed, then a table of the rates' medians over the seeds.
 std::string g_only;
 double g_junction_spacing = refine::RefineParams{}.junction_spacing;
 std::uint64_t g_seed = refine::RefineParams{}.seed;
+std::vector<std::uint64_t> g_seeds;
 
-void row(const char* name, const domain::LabelImage4& image, double delta,
-         refine::RuleOrder order) {
-  if (!g_only.empty() && std::string(name).find(g_only) == std::string::npos) return;
+struct OverSeeds {
+  std::string name, order;
+  std::vector<double> rates;
+  bool all_pass = true;
+};
+std::vector<OverSeeds> g_over_seeds;
+
+// One mesh: its Table-2 row; true when it passes the fidelity and quality checks.
+bool mesh_row(const std::string& name, const domain::LabelImage4& image, double delta,
+              refine::RuleOrder order, std::uint64_t seed, double* rate) {
   refine::RefineParams params;
   params.delta = delta;
   params.rule_order = order;
   params.junction_spacing = g_junction_spacing;
-  params.seed = g_seed;
+  params.seed = seed;
   const Flat f = run_child(image, params);
   if (!f.ok) {
-    std::printf("| %s | run failed |\n", name);
-    return;
+    std::printf("| %s | run failed |\n", name.c_str());
+    return false;
   }
+  *rate = f.pentatopes / f.seconds;
   std::printf(
       "| %s | %s | %g | %llu | %llu | %llu | %.2f | %.2f / %.2f / %.2f | %.4f / %.2f / %.2f | "
       "%.2f | %.0f | %llu | %.0f | %llu | %llu | %llu | %.2f |\n",
-      name, order == refine::RuleOrder::r3_first ? "R3 first" : "paper", delta,
+      name.c_str(), order == refine::RuleOrder::r3_first ? "R3 first" : "paper", delta,
       (unsigned long long)f.pentatopes, (unsigned long long)f.boundary,
       (unsigned long long)f.vertices, f.shortest, f.rho_max, f.rho_mean, f.rho_std, f.tau_min,
       f.tau_mean, f.tau_std, f.seconds, f.pentatopes / f.seconds, (unsigned long long)f.insertions,
       f.peak_mb, (unsigned long long)f.off_surface, (unsigned long long)f.pinched,
       (unsigned long long)f.relabeled, f.repair_seconds);
+  std::fflush(stdout);
+  return f.off_surface == 0 && f.pinched == 0 && f.rho_max <= params.radius_edge_bound &&
+         f.tau_min >= params.sliver_bound;
+}
+
+void row(const char* name, const domain::LabelImage4& image, double delta,
+         refine::RuleOrder order) {
+  if (!g_only.empty() && std::string(name).find(g_only) == std::string::npos) return;
+  double rate = 0;
+  if (g_seeds.empty()) {
+    mesh_row(name, image, delta, order, g_seed, &rate);
+    return;
+  }
+  OverSeeds over{name, order == refine::RuleOrder::r3_first ? "R3 first" : "paper", {}, true};
+  for (std::uint64_t seed : g_seeds) {
+    const bool pass = mesh_row(std::string(name) + ", seed " + std::to_string(seed), image, delta,
+                               order, seed, &rate);
+    over.all_pass = over.all_pass && pass;
+    over.rates.push_back(rate);
+  }
+  g_over_seeds.push_back(over);
+}
+
+void print_over_seeds() {
+  if (g_over_seeds.empty()) return;
+  std::printf(
+      "\nPentatopes per second over seeds (each seed its own mesh)\n| input | rule order | seeds | "
+      "median | min | max | every mesh passed the checks |\n|---|---|---|---|---|---|---|\n");
+  for (OverSeeds& o : g_over_seeds) {
+    std::sort(o.rates.begin(), o.rates.end());
+    const std::size_t n = o.rates.size();
+    const double median = n % 2 ? o.rates[n / 2] : 0.5 * (o.rates[n / 2 - 1] + o.rates[n / 2]);
+    std::printf("| %s | %s | %zu | %.0f | %.0f | %.0f | %s |\n", o.name.c_str(), o.order.c_str(), n,
+                median, o.rates.front(), o.rates.back(), o.all_pass ? "yes" : "NO");
+  }
   std::fflush(stdout);
 }
 
@@ -120,9 +166,22 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--junction-spacing") == 0)
       g_junction_spacing = std::atof(argv[i + 1]);
     if (std::strcmp(argv[i], "--seed") == 0) g_seed = std::strtoull(argv[i + 1], nullptr, 10);
+    if (std::strcmp(argv[i], "--seeds") == 0)
+      for (const char* p = argv[i + 1]; *p;) {
+        char* end = nullptr;
+        g_seeds.push_back(std::strtoull(p, &end, 10));
+        if (end == p) break;
+        p = *end == ',' ? end + 1 : end;
+      }
   }
-  std::printf("Sequential refinement (R1-R5), one thread, junction spacing %g delta, seed %llu\n",
-              g_junction_spacing, static_cast<unsigned long long>(g_seed));
+  std::string seeds = "seed " + std::to_string(g_seed);
+  for (std::size_t k = 0; k < g_seeds.size(); ++k) {
+    if (k == 0) seeds = "seeds ";
+    if (k > 0) seeds.push_back(',');
+    seeds.append(std::to_string(g_seeds[k]));
+  }
+  std::printf("Sequential refinement (R1-R5), one thread, junction spacing %g delta, %s\n",
+              g_junction_spacing, seeds.c_str());
   std::printf(
       "| input | rule order | δ | pentatopes | boundary tets | vertices | shortest edge | "
       "radius-edge max / mean / std | normalized volume min / mean / std | time s | "
@@ -152,6 +211,7 @@ int main(int argc, char** argv) {
       if (image.at(i) != 0) paper.set(i, image.at(i));
     row((name + ", paper spacing, 15 frames").c_str(), paper, 5, refine::RuleOrder::r3_first);
   }
+  print_over_seeds();
   const std::string pat01 = dir + "/Pat01_mse4d_label4d.nii.gz";
   if (std::ifstream(pat01) && (g_only.empty() || g_only == "Mesh_3"))
     mesh4d::bench::compare_with_mesh3_frames("Pat01 (files' spacing, 25 frames)",
