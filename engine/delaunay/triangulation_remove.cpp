@@ -17,6 +17,23 @@
 #include "delaunay/triangulation.h"
 
 namespace mesh4d::delaunay {
+namespace {
+
+// Adds id to an open-addressing set of 32-bit ids (a power-of-two size, `empty` in the free
+// slots); false when it was there already. The star and the link each keep one.
+bool insert_once(std::vector<std::uint32_t>& set, std::uint32_t id, std::uint32_t empty) {
+  const std::size_t mask = set.size() - 1;
+  for (std::size_t i = (id * 0x9E3779B1u) & mask;; i = (i + 1) & mask) {
+    if (set[i] == id) return false;
+    if (set[i] == empty) {
+      set[i] = id;
+      return true;
+    }
+  }
+}
+
+}  // namespace
+
 bool Triangulation::collect_star(VertexId v, std::vector<CellId>& star, CellGuard* guard) const {
   star.clear();
   star.push_back(store_.vertex(v).cell);
@@ -27,15 +44,7 @@ bool Triangulation::collect_star(VertexId v, std::vector<CellId>& star, CellGuar
   std::size_t size = 256;
   thread_local std::vector<CellId> seen;  // reused: a heap block per call cost more than filling
   seen.assign(size, kNoCell);
-  const auto insert = [&](CellId c) {
-    for (std::size_t i = (c * 0x9E3779B1u) & (size - 1);; i = (i + 1) & (size - 1)) {
-      if (seen[i] == c) return false;
-      if (seen[i] == kNoCell) {
-        seen[i] = c;
-        return true;
-      }
-    }
-  };
+  const auto insert = [&](CellId c) { return insert_once(seen, c, kNoCell); };
   insert(star[0]);
   for (std::size_t k = 0; k < star.size(); ++k) {
     if (2 * star.size() > size) {  // keep the table at most half full
@@ -111,17 +120,8 @@ Triangulation::RemoveResult Triangulation::remove(VertexId v, std::vector<CellId
     seen.assign(size, kNoVertex);
     for (CellId c : star) {
       if (store_.is_infinite(c)) return RemoveResult::refused;  // a hull vertex: not closable
-      for (VertexId u : store_.cell(c).v) {
-        if (u == v) continue;
-        for (std::size_t i = (u * 0x9E3779B1u) & (size - 1);; i = (i + 1) & (size - 1)) {
-          if (seen[i] == u) break;
-          if (seen[i] == kNoVertex) {
-            seen[i] = u;
-            link.push_back(u);
-            break;
-          }
-        }
-      }
+      for (VertexId u : store_.cell(c).v)
+        if (u != v && insert_once(seen, u, kNoVertex)) link.push_back(u);
     }
   }
 
