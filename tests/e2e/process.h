@@ -37,7 +37,10 @@ class ChildProcess {
 /// Waits until `path` exists and is non-empty, or `timeout` passes; returns its contents or "".
 std::string wait_for_file(const std::string& path, std::chrono::milliseconds timeout);
 
-/// A fresh directory under the system's temporary folder.
+/// A fresh directory under the system's temporary folder, removed with its contents when the
+/// program ends unless the predicate of keep_temp_dirs_if() says to keep them.
 std::string make_temp_dir(const std::string& prefix);
+/// The tests keep them when a test failed (temp_dir_policy.cpp).
+void keep_temp_dirs_if(bool (*keep)());
 
 }  // namespace mesh4d::testing

@@ -155,7 +155,10 @@ def main():
         server.wait(timeout=30)
     for f in failures:
         print("FAIL:", f)
-    sys.exit(1 if failures else 0)
+    if failures:
+        print("kept for a look:", folder)
+        sys.exit(1)
+    shutil.rmtree(folder, ignore_errors=True)
 
 
 if __name__ == "__main__":

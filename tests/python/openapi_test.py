@@ -9,6 +9,7 @@ usage: openapi_test.py SERVER_BINARY OPENAPI_YAML
 """
 import json
 import os
+import shutil
 import signal
 import sys
 import tempfile
@@ -145,8 +146,9 @@ def main():
         process.send_signal(signal.SIGTERM)
         process.wait(timeout=20)
     if FAILURES:
-        print(f"{len(FAILURES)} failures")
+        print(f"{len(FAILURES)} failures; kept for a look: {folder}")
         sys.exit(1)
+    shutil.rmtree(folder, ignore_errors=True)
     print("every call matches docs/openapi.yaml")
 
 

@@ -18,11 +18,19 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string temp_path(const std::string& name) {
-  // One folder per process: CTest runs the tests of this file in parallel processes.
-  const fs::path dir =
-      fs::temp_directory_path() / ("mesh4d-image-io-test-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return (dir / name).string();
+  // One folder per process: CTest runs the tests of this file in parallel processes. It goes
+  // when the process ends (nothing in it is worth keeping: each test writes and reads back).
+  struct Folder {
+    fs::path dir =
+        fs::temp_directory_path() / ("mesh4d-image-io-test-" + std::to_string(::getpid()));
+    Folder() { fs::create_directories(dir); }
+    ~Folder() {
+      std::error_code ec;
+      fs::remove_all(dir, ec);
+    }
+  };
+  static const Folder folder;
+  return (folder.dir / name).string();
 }
 
 // Writes an ITK image of any pixel type and dimension with the given values (for inputs that
