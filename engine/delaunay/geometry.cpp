@@ -4,49 +4,19 @@
 #include <cmath>
 #include <limits>
 
+#include "delaunay/cramer4.h"
+
 namespace mesh4d::delaunay {
 namespace {
 
-// Solves A x = b (4×4) by Cramer's rule through the adjugate, its cofactors built from the
-// twelve 2×2 minors of rows (0, 1) and (2, 3): no branch and one division, half the time of
-// elimination with pivoting. Only an exactly singular A is refused: a nearly flat pentatope has
-// a huge but finite circumcenter, which the refinement rules need to see (R2 then inserts its
-// projection on the box, which lies in the circumball and so destroys the pentatope).
+// Solves A x = b (4×4) by Cramer's rule (cramer4.h): half the time of elimination with
+// pivoting. Only an exactly singular A is refused: a nearly flat pentatope has a huge but finite
+// circumcenter, which the refinement rules need to see (R2 then inserts its projection on the
+// box, which lies in the circumball and so destroys the pentatope).
 bool solve4(const double a[4][4], const double b[4], double x[4]) {
-  const double s0 = a[0][0] * a[1][1] - a[1][0] * a[0][1];
-  const double s1 = a[0][0] * a[1][2] - a[1][0] * a[0][2];
-  const double s2 = a[0][0] * a[1][3] - a[1][0] * a[0][3];
-  const double s3 = a[0][1] * a[1][2] - a[1][1] * a[0][2];
-  const double s4 = a[0][1] * a[1][3] - a[1][1] * a[0][3];
-  const double s5 = a[0][2] * a[1][3] - a[1][2] * a[0][3];
-  const double c5 = a[2][2] * a[3][3] - a[3][2] * a[2][3];
-  const double c4 = a[2][1] * a[3][3] - a[3][1] * a[2][3];
-  const double c3 = a[2][1] * a[3][2] - a[3][1] * a[2][2];
-  const double c2 = a[2][0] * a[3][3] - a[3][0] * a[2][3];
-  const double c1 = a[2][0] * a[3][2] - a[3][0] * a[2][2];
-  const double c0 = a[2][0] * a[3][1] - a[3][0] * a[2][1];
-  const double det = s0 * c5 - s1 * c4 + s2 * c3 + s3 * c2 - s4 * c1 + s5 * c0;
-  if (det == 0 || !std::isfinite(det)) return false;
-  // Row i of the adjugate, times b.
-  const double adj_b[4] = {(a[1][1] * c5 - a[1][2] * c4 + a[1][3] * c3) * b[0] +
-                               (-a[0][1] * c5 + a[0][2] * c4 - a[0][3] * c3) * b[1] +
-                               (a[3][1] * s5 - a[3][2] * s4 + a[3][3] * s3) * b[2] +
-                               (-a[2][1] * s5 + a[2][2] * s4 - a[2][3] * s3) * b[3],
-                           (-a[1][0] * c5 + a[1][2] * c2 - a[1][3] * c1) * b[0] +
-                               (a[0][0] * c5 - a[0][2] * c2 + a[0][3] * c1) * b[1] +
-                               (-a[3][0] * s5 + a[3][2] * s2 - a[3][3] * s1) * b[2] +
-                               (a[2][0] * s5 - a[2][2] * s2 + a[2][3] * s1) * b[3],
-                           (a[1][0] * c4 - a[1][1] * c2 + a[1][3] * c0) * b[0] +
-                               (-a[0][0] * c4 + a[0][1] * c2 - a[0][3] * c0) * b[1] +
-                               (a[3][0] * s4 - a[3][1] * s2 + a[3][3] * s0) * b[2] +
-                               (-a[2][0] * s4 + a[2][1] * s2 - a[2][3] * s0) * b[3],
-                           (-a[1][0] * c3 + a[1][1] * c1 - a[1][2] * c0) * b[0] +
-                               (a[0][0] * c3 - a[0][1] * c1 + a[0][2] * c0) * b[1] +
-                               (-a[3][0] * s3 + a[3][1] * s1 - a[3][2] * s0) * b[2] +
-                               (a[2][0] * s3 - a[2][1] * s1 + a[2][2] * s0) * b[3]};
-  const double inverse = 1 / det;
-  for (int i = 0; i < 4; ++i) x[i] = adj_b[i] * inverse;
-  return true;
+  double det;
+  cramer4([&](int i, int j) { return a[i][j]; }, b, &det, x);
+  return det != 0 && std::isfinite(det);
 }
 
 double det4(const double m[4][4]) {

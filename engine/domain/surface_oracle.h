@@ -199,6 +199,7 @@ class SurfaceOracle {
   double min_spacing_;             // the smallest: the scale of tolerances
   double cell_diagonal_;           // of the hypercube between 16 voxel centers
   bool ray_give_up_ = true;
+  bool border_background_ = false;  // every voxel on the image's outer layer is background
 };
 
 }  // namespace mesh4d::domain

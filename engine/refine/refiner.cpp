@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 
+#include "delaunay/circumballs.h"
 #include "delaunay/geometry.h"
 #include "refine/repair_policy.h"
 
@@ -110,7 +111,7 @@ bool Refiner::ball_meets_surface(CellId c, domain::SurfaceBracket* cfp) const {
   if (info.surface_lower >= info.radius) return false;
   // The paper's cfp (ray to the nearest surface voxel, then bisection): the descent to the exact
   // closest point costs ten times more and changes little for sampling. Bracketed to 1/32 of a
-  // voxel: R1 pinpoints it only when it inserts it. info.label is the label at the center here:
+  // voxel: R1 pinpoints it only when it inserts it. label_of(c) is the label at the center here:
   // relabeling (the only other writer) runs after the rules, and the pentatopes it moves are
   // never queued again (only new pentatopes are).
   //
@@ -131,29 +132,49 @@ bool Refiner::ball_meets_surface(CellId c, domain::SurfaceBracket* cfp) const {
   const Covered covered(*this, c);
   bool dropped = false;
   const auto z = oracle_.closest_surface_bracket(
-      info.center, {info.label, info.surface_voxel, info.surface_lower},
+      info.center, {label_of(c), info.surface_voxel, info.surface_lower},
       info.radius < 2 * params_.delta ? &covered : nullptr, &dropped);
   if (!z) return false;  // dropped, or no surface point found near the feature voxel
   *cfp = *z;
   return distance(info.center, z->middle().point) < info.radius;
 }
 
-void Refiner::update_info(CellId c) {
-  info_.ensure(std::size_t{c} + 1);
-  CellInfo& info = info_[c];
-  info.finite = false;
-  if (tri_.store().is_infinite(c)) return;
-  const auto s = simplex_of(c);
-  info.center = delaunay::circumcenter(s);
-  if (!std::isfinite(info.center[0])) return;
-  info.radius = delaunay::circumradius(s, info.center);
-  info.label = oracle_.label_at(info.center);
-  info.surface_known = false;
-  info.finite = true;
+void Refiner::update_infos(const std::vector<CellId>& cells) {
+  // The finite pentatopes' circumballs four at a time (circumballs4: the same numbers as one
+  // at a time, faster); a short last group is padded with its first pentatope.
+  const auto& st = tri_.store();
+  CellId group[4];
+  const Point4* vertices[4][5];
+  int n = 0;
+  const auto measure = [&] {
+    for (int l = n; l < 4; ++l) std::copy(vertices[0], vertices[0] + 5, vertices[l]);
+    delaunay::Circumball balls[4];
+    delaunay::circumballs4(vertices, balls);
+    for (int l = 0; l < n; ++l) {
+      CellInfo& info = info_[group[l]];
+      info.center = balls[l].center;
+      if (!std::isfinite(info.center[0])) continue;  // flat: not finite
+      info.radius = balls[l].radius;
+      info.long_radius = info.radius / balls[l].shortest_edge >= params_.radius_edge_bound;
+      info.label_code = 0;
+      info.surface_known = false;
+      info.finite = true;
+    }
+    n = 0;
+  };
+  for (CellId c : cells) {
+    info_.ensure(std::size_t{c} + 1);
+    info_[c].finite = false;
+    if (st.is_infinite(c)) continue;
+    group[n] = c;
+    for (int k = 0; k < 5; ++k) vertices[n][k] = &st.point(st.cell(c).v[k]);
+    if (++n == 4) measure();
+  }
+  if (n > 0) measure();
 }
 
 void Refiner::admit(Worker& w, const std::vector<CellId>& cells) {
-  for (CellId c : cells) update_info(c);
+  update_infos(cells);
   for (CellId c : cells) enqueue(w, c);
 }
 
@@ -163,10 +184,10 @@ bool Refiner::has_restricted_non_feature_facet(CellId c) const {
   // crossing lies outside this pentatope's circumball (inside the neighbor's) is still found.
   const auto& st = tri_.store();
   const auto& cell = st.cell(c);
-  const domain::Label own = info_[c].label;
+  const domain::Label own = label_of(c);
   for (int i = 0; i < 5; ++i) {
     const CellId n = cell.n[i];
-    if (!info_[n].finite || info_[n].label == own) continue;
+    if (!info_[n].finite || label_of(n) == own) continue;
     for (int k = 0; k < 5; ++k)
       if (k != i && st.vertex(cell.v[k]).kind != VertexKind::feature) return true;
   }
@@ -176,17 +197,15 @@ bool Refiner::has_restricted_non_feature_facet(CellId c) const {
 Refiner::Rule Refiner::quick_rule(CellId c) const {
   const CellInfo& info = info_[c];
   if (!info.finite) return kNone;
-  const auto s = simplex_of(c);
   const double r = info.radius;
-  const bool inside = info.label != 0;
-  const double rho = r / delaunay::shortest_edge(s);
-  if (params_.rule_order == RuleOrder::r3_first && inside && rho >= params_.radius_edge_bound)
-    return kR3;
+  // The label only where it decides (most new pentatopes are queued for R1 without it).
+  if (params_.rule_order == RuleOrder::r3_first && info.long_radius && label_of(c) != 0) return kR3;
   // Not yet known, the distance to ∂Ω is taken as short: classify() reads it. (Computing it
   // here kept 0.1–0.4 % of the new pentatopes out of the queues on the ventricle and Pat04.)
   if (!info.surface_known || info.surface_lower < r) return kR1;
-  if (inside && rho >= params_.radius_edge_bound) return kR3;
-  if (inside && delaunay::normalized_volume(s, r) < params_.sliver_bound) return kR4;
+  const bool inside = label_of(c) != 0;
+  if (inside && info.long_radius) return kR3;
+  if (inside && delaunay::normalized_volume(simplex_of(c), r) < params_.sliver_bound) return kR4;
   if (inside && params_.max_interior_radius > 0 && r > params_.max_interior_radius) return kSizing;
   if (has_restricted_non_feature_facet(c)) return kR5;
   return kNone;
@@ -200,16 +219,15 @@ Refiner::Rule Refiner::classify(Worker& w, CellId c, Point4* point, VertexKind* 
   for (CellId n : tri_.store().cell(c).n) __builtin_prefetch(&info_[n]);
   if (!info.surface_known) {
     // What R1's cfp reads about the center. In a parallel phase this thread holds c.
-    const auto facts = oracle_.facts(info.center, info.label);
+    const auto facts = oracle_.facts(info.center, label_of(c));
     info.surface_lower = facts.lower;
     info.surface_voxel = facts.surface_voxel;
     info.surface_known = true;
   }
-  const auto s = simplex_of(c);
   const Point4 center = info.center;
   const double r = info.radius;
-  const bool inside = info.label != 0;
-  const bool bad_ratio = inside && r / delaunay::shortest_edge(s) >= params_.radius_edge_bound;
+  const bool inside = label_of(c) != 0;
+  const bool bad_ratio = inside && info.long_radius;
   *kind = VertexKind::free;
   *point = center;
   if (params_.rule_order == RuleOrder::r3_first && bad_ratio) return kR3;
@@ -234,7 +252,7 @@ Refiner::Rule Refiner::classify(Worker& w, CellId c, Point4* point, VertexKind* 
     }
   }
   if (bad_ratio) return kR3;
-  if (inside && delaunay::normalized_volume(s, r) < params_.sliver_bound) {
+  if (inside && delaunay::normalized_volume(simplex_of(c), r) < params_.sliver_bound) {
     *point = pick_from_region(w, c, center, r);
     return kR4;
   }
@@ -258,10 +276,11 @@ bool Refiner::find_restricted_facet(CellId c, Point4* surface_center,
   const auto& st = tri_.store();
   const auto& cell = st.cell(c);
   const CellInfo& own = info_[c];
+  const domain::Label own_label = label_of(c);
   for (int i = 0; i < 5; ++i) {
     // The neighbor's label first: most facets are not restricted, and it is one read.
     const CellId n = cell.n[i];
-    if (!info_[n].finite || info_[n].label == own.label) continue;
+    if (!info_[n].finite || label_of(n) == own_label) continue;
     bool all_feature = true;
     for (int k = 0; k < 5; ++k)
       if (k != i) all_feature &= st.vertex(cell.v[k]).kind == VertexKind::feature;
@@ -635,7 +654,7 @@ mesh::Mesh4 Refiner::extract(std::vector<std::string>& warnings) const {
   mesh::Mesh4 mesh;
   for (CellId c = 0; c < st.cell_slots(); ++c) {
     if (!st.is_live(c) || st.is_infinite(c) || !info_[c].finite) continue;
-    label[c] = info_[c].label;
+    label[c] = label_of(c);
     if (label[c] == 0) continue;
     index[c] = static_cast<std::uint32_t>(mesh.pentatopes.size());
     std::array<std::uint32_t, 5> p;

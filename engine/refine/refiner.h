@@ -129,13 +129,20 @@ class Refiner {
   // admit()). Every live pentatope has one, the infinite ones too (not finite): a neighbor's
   // info says whether it is infinite without a load of its record (the loads of neighbors'
   // records were most of find_restricted_facet's time).
-  struct CellInfo {
+  // 64 bytes, aligned: one cache line each (neighbors' infos are read in every classification).
+  struct alignas(64) CellInfo {
     Point4 center;
     double radius = 0;
     double surface_lower = 0;         // a lower bound on the distance from center to ∂Ω
     std::uint32_t surface_voxel = 0;  // where the cfp of center starts (PointFacts)
-    domain::Label label = 0;
+    // The label at the center plus one, 0 until asked (label_of): most new pentatopes die before
+    // anything reads it. Atomic (std::atomic_ref) where read: a thread classifying a neighbor
+    // may compute it.
+    mutable std::uint32_t label_code = 0;
     bool finite = false;  // false for infinite or flat pentatopes
+    // Radius over shortest edge ≥ ρ̄ (R3 where inside), measured with the center: the vertices
+    // are loaded once per new pentatope.
+    bool long_radius = false;
     // Whether surface_lower and surface_voxel are set: only once the pentatope is classified
     // (six in ten pentatopes die before, on the ventricle and the patients).
     bool surface_known = false;
@@ -155,10 +162,11 @@ class Refiner {
   void insert_box();
   // Feature vertices on every triple junction, RefineParams::junction_spacing · Δ apart.
   void insert_junctions();
-  // New pentatopes: their info first (neighbors' labels are read by the R5 check), then queued.
+  // New pentatopes: their info first (the R5 check reads neighbors' infos), then queued.
   void admit(Worker& w, const std::vector<delaunay::CellId>& cells);
   void admit(const std::vector<delaunay::CellId>& cells) { admit(*workers_[0], cells); }
-  void update_info(delaunay::CellId c);
+  // Their CellInfo (not yet the label: label_of()).
+  void update_infos(const std::vector<delaunay::CellId>& cells);
   void enqueue(Worker& w, delaunay::CellId c);
   bool has_restricted_non_feature_facet(delaunay::CellId c) const;
   Rule quick_rule(delaunay::CellId c) const;  // a cheap priority guess, confirmed when popped
@@ -263,10 +271,23 @@ class Refiner {
   // each the index of its facet shared with the next.
   void link_cycle(delaunay::CellId start, const std::array<mesh4d::VertexId, 3>& t,
                   std::vector<delaunay::CellId>& cycle, std::vector<int>& crossed) const;
-  // The label a pentatope has in the output (0: not output).
-  domain::Label output_label(delaunay::CellId c) const {
-    return info_[c].finite ? info_[c].label : 0;
+  // The label at a finite pentatope's circumcenter (or the one relabeling gave it), computed
+  // on the first request. Two threads may compute it at once: they store the same value.
+  domain::Label label_of(delaunay::CellId c) const {
+    const CellInfo& info = info_[c];
+    std::atomic_ref<std::uint32_t> code(info.label_code);
+    std::uint32_t k = code.load(std::memory_order_relaxed);
+    if (k == 0) {
+      k = std::uint32_t{oracle_.label_at(info.center)} + 1;
+      code.store(k, std::memory_order_relaxed);
+    }
+    return static_cast<domain::Label>(k - 1);
   }
+  void set_label(delaunay::CellId c, domain::Label label) {
+    info_[c].label_code = std::uint32_t{label} + 1;
+  }
+  // The label a pentatope has in the output (0: not output).
+  domain::Label output_label(delaunay::CellId c) const { return info_[c].finite ? label_of(c) : 0; }
   // Closes the pinches the repair left by moving a few pentatopes, all of whose vertices lie on
   // ∂Ω, to a neighboring label (refiner_relabel.cpp); returns how many pentatopes moved.
   std::size_t relabel_pinches();

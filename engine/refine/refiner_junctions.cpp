@@ -77,18 +77,18 @@ std::size_t Refiner::count_pinches(std::vector<PinchedTriangle>* pinched,
   run_parts(parts, [&](unsigned part) {
     const auto [begin, end] = part_range(st.cell_slots(), part, parts);
     for (CellId c = static_cast<CellId>(begin); c < end; ++c) {
-      if (!st.is_live(c) || !info_[c].finite || info_[c].label == 0) continue;
+      if (!st.is_live(c) || !info_[c].finite || label_of(c) == 0) continue;
       const auto& cell = st.cell(c);
       for (int i = 0; i < 5; ++i) {
         const CellId n = cell.n[i];
-        const domain::Label other = info_[n].finite ? info_[n].label : 0;
-        if (other == info_[c].label) continue;
+        const domain::Label other = output_label(n);
+        if (other == label_of(c)) continue;
         std::array<std::uint32_t, 4> facet;
         for (int k = 0, m = 0; k < 5; ++k)
           if (k != i) facet[m++] = cell.v[k];
         std::sort(facet.begin(), facet.end());
         for (int skip = 0; skip < 4; ++skip) {
-          Record r{{info_[c].label, 0, 0, 0}, 0, c, i};
+          Record r{{label_of(c), 0, 0, 0}, 0, c, i};
           for (int k = 0, m = 1; k < 4; ++k)
             if (k != skip) r.key[m++] = facet[k];
           r.hash = hash_key(r.key[0], r.key[1], r.key[2], r.key[3]);

@@ -97,20 +97,19 @@ bool Refiner::movable(CellId c, Label from) const {
   if (!info_[c].finite) return false;
   for (mesh4d::VertexId v : st.cell(c).v)
     if (st.vertex(v).kind != delaunay::VertexKind::feature) return false;
-  if (from != 0 || info_[c].label == 0) return true;
-  const auto s = simplex_of(c);
-  return info_[c].radius / delaunay::shortest_edge(s) < params_.radius_edge_bound &&
-         delaunay::normalized_volume(s) >= params_.sliver_bound;
+  if (from != 0 || label_of(c) == 0) return true;
+  return !info_[c].long_radius &&
+         delaunay::normalized_volume(simplex_of(c)) >= params_.sliver_bound;
 }
 
 std::vector<Label> Refiner::apply(const std::vector<Move>& moves) {
   std::vector<Label> before;
-  for (const Move& m : moves) before.push_back(info_[m.cell].label), info_[m.cell].label = m.to;
+  for (const Move& m : moves) before.push_back(label_of(m.cell)), set_label(m.cell, m.to);
   return before;
 }
 
 void Refiner::undo(const std::vector<Move>& moves, const std::vector<Label>& before) {
-  for (std::size_t i = moves.size(); i-- > 0;) info_[moves[i].cell].label = before[i];
+  for (std::size_t i = moves.size(); i-- > 0;) set_label(moves[i].cell, before[i]);
 }
 
 long Refiner::relabel_gain(const std::vector<Move>& moves) {
@@ -121,12 +120,12 @@ long Refiner::relabel_gain(const std::vector<Move>& moves) {
   std::sort(cells.begin(), cells.end());
   cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
   std::vector<Label> from(cells.size());
-  for (std::size_t i = 0; i < cells.size(); ++i) from[i] = info_[cells[i]].label;
+  for (std::size_t i = 0; i < cells.size(); ++i) from[i] = label_of(cells[i]);
   const long before = static_cast<long>(pinches_on(cells).size());
   const std::vector<Label> saved = apply(moves);
   bool allowed = true;
   for (std::size_t i = 0; i < cells.size() && allowed; ++i)
-    allowed = info_[cells[i]].label == from[i] || movable(cells[i], from[i]);
+    allowed = label_of(cells[i]) == from[i] || movable(cells[i], from[i]);
   const long gain = allowed ? before - static_cast<long>(pinches_on(cells).size()) : kNotAllowed;
   undo(moves, saved);
   return gain;
@@ -227,12 +226,11 @@ const std::vector<Refiner::PinchedTriangle>& Refiner::current_pinches() {
 void Refiner::sort_canonically(std::vector<PinchedTriangle>& pinches) const {
   // Every facet of a pinch lies in a pentatope of the pinched region: its label is the pinch's.
   for (PinchedTriangle& p : pinches) std::sort(p.facets.begin(), p.facets.end());
-  std::sort(pinches.begin(), pinches.end(),
-            [&](const PinchedTriangle& a, const PinchedTriangle& b) {
-              const Label la = info_[a.facets.front().first].label,
-                          lb = info_[b.facets.front().first].label;
-              return a.triangle != b.triangle ? a.triangle < b.triangle : la < lb;
-            });
+  std::sort(
+      pinches.begin(), pinches.end(), [&](const PinchedTriangle& a, const PinchedTriangle& b) {
+        const Label la = label_of(a.facets.front().first), lb = label_of(b.facets.front().first);
+        return a.triangle != b.triangle ? a.triangle < b.triangle : la < lb;
+      });
 }
 
 void Refiner::set_current_pinches(std::vector<PinchedTriangle> pinches) {

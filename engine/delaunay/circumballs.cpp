@@ -1,0 +1,100 @@
+#include "delaunay/circumballs.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "delaunay/cramer4.h"
+
+namespace mesh4d::delaunay {
+namespace {
+
+constexpr int kLanes = 4;
+
+// Structure of arrays, lane last, so that each statement below is one vector operation. The
+// expressions are those of geometry.cpp (solve4, circumcenter, circumradius, shortest_edge):
+// change both together.
+[[gnu::always_inline]] inline void measure(const Point4* const vertices[kLanes][5],
+                                           Circumball out[kLanes]) {
+  double p[5][4][kLanes];
+  for (int k = 0; k < 5; ++k)
+    for (int j = 0; j < 4; ++j)
+      for (int l = 0; l < kLanes; ++l) p[k][j][l] = (*vertices[l][k])[j];
+  // Relative to vertex 0: 2 (p_i - p_0) · c' = |p_i - p_0|².
+  double a[4][4][kLanes], b[4][kLanes];
+  for (int i = 0; i < 4; ++i) {
+    for (int l = 0; l < kLanes; ++l) b[i][l] = 0;
+    for (int j = 0; j < 4; ++j)
+      for (int l = 0; l < kLanes; ++l) {
+        a[i][j][l] = 2 * (p[i + 1][j][l] - p[0][j][l]);
+        b[i][l] += (p[i + 1][j][l] - p[0][j][l]) * (p[i + 1][j][l] - p[0][j][l]);
+      }
+  }
+  // Cramer's rule, as solve4.
+  double x[4][kLanes], det[kLanes];
+  for (int l = 0; l < kLanes; ++l) {
+    const double bl[4] = {b[0][l], b[1][l], b[2][l], b[3][l]};
+    double xl[4];
+    // The flat lanes (det 0 or not finite) are replaced at the end.
+    cramer4([&](int i, int j) { return a[i][j][l]; }, bl, &det[l], xl);
+    for (int i = 0; i < 4; ++i) x[i][l] = xl[i];
+  }
+  double c[4][kLanes];
+  for (int j = 0; j < 4; ++j)
+    for (int l = 0; l < kLanes; ++l) c[j][l] = p[0][j][l] + x[j][l];
+  // circumradius: the mean distance to the vertices, summed in vertex order.
+  double r[kLanes] = {};
+  for (int k = 0; k < 5; ++k) {
+    double d2[kLanes];
+    for (int l = 0; l < kLanes; ++l) {
+      double q = 0;
+      for (int j = 0; j < 4; ++j) q += (c[j][l] - p[k][j][l]) * (c[j][l] - p[k][j][l]);
+      d2[l] = q;
+    }
+    for (int l = 0; l < kLanes; ++l) r[l] += std::sqrt(d2[l]);
+  }
+  double e2[kLanes];
+  for (int l = 0; l < kLanes; ++l) e2[l] = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 5; ++i)
+    for (int k = i + 1; k < 5; ++k)
+      for (int l = 0; l < kLanes; ++l) {
+        double q = 0;
+        for (int j = 0; j < 4; ++j) q += (p[i][j][l] - p[k][j][l]) * (p[i][j][l] - p[k][j][l]);
+        e2[l] = std::min(e2[l], q);
+      }
+  const double inf = std::numeric_limits<double>::infinity();
+  for (int l = 0; l < kLanes; ++l) {
+    if (det[l] == 0 || !std::isfinite(det[l])) {
+      out[l].center = {inf, inf, inf, inf};
+      out[l].radius = inf;
+    } else {
+      for (int j = 0; j < 4; ++j) out[l].center[j] = c[j][l];
+      out[l].radius = std::isfinite(out[l].center[0]) ? r[l] / 5 : inf;
+    }
+    out[l].shortest_edge = std::sqrt(e2[l]);
+  }
+}
+
+void measure_default(const Point4* const vertices[kLanes][5], Circumball out[kLanes]) {
+  measure(vertices, out);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// The same code with 256-bit vectors; no FMA, which would change the roundings.
+[[gnu::target("avx2,no-fma")]] void measure_avx2(const Point4* const vertices[kLanes][5],
+                                                 Circumball out[kLanes]) {
+  measure(vertices, out);
+}
+#endif
+
+}  // namespace
+
+void circumballs4(const Point4* const vertices[4][5], Circumball out[4], bool portable) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2 && !portable) return measure_avx2(vertices, out);
+#endif
+  measure_default(vertices, out);
+}
+
+}  // namespace mesh4d::delaunay
