@@ -3,12 +3,13 @@
 //
 // All five rules (R1 to R5, R3 first by default) and an interior sizing bound; picking regions
 // for R4 and R5 measure the cavity of each trial point before choosing. Each pentatope's
-// circumball and label are computed once, when it is made (CellInfo). Where labels meet, the
-// paper's guarantee (for one label) does not hold: a bounded pinch repair (refiner_junctions.cpp)
-// samples ∂Ω where a region's boundary is not a manifold, and what it leaves is closed by moving
-// a few pentatopes whose vertices all lie on ∂Ω to a neighboring label (refiner_relabel.cpp).
-// With RefineParams::threads > 1 the rules run on worker threads sharing the triangulation
-// (refiner_parallel.cpp); the repair and relabeling between those phases stay on one thread.
+// circumball is computed once, when it is made, and its label once, when first read (CellInfo).
+// Where labels meet, the paper's guarantee (for one label) does not hold: a bounded pinch repair
+// (refiner_junctions.cpp) samples ∂Ω where a region's boundary is not a manifold, and what it
+// leaves is closed by moving a few pentatopes whose vertices all lie on ∂Ω to a neighboring label
+// (refiner_relabel.cpp). With RefineParams::threads > 1 the rules run on worker threads sharing the
+// triangulation (refiner_parallel.cpp); the repair and relabeling between those phases stay on one
+// thread.
 #pragma once
 
 #include <atomic>
@@ -124,12 +125,12 @@ class Refiner {
     std::atomic<std::int64_t> live_cells{0};  // cells.live, published after each operation
   };
   enum class Outcome { done, skipped, conflict };
-  // What every rule asks of a pentatope, computed once when it is created: its circumball and
-  // the label at its center (slots are reused, so it is recomputed for each new cell in
-  // admit()). Every live pentatope has one, the infinite ones too (not finite): a neighbor's
-  // info says whether it is infinite without a load of its record (the loads of neighbors'
-  // records were most of find_restricted_facet's time).
-  // 64 bytes, aligned: one cache line each (neighbors' infos are read in every classification).
+  // What every rule asks of a pentatope, computed once when it is created: its circumball (in
+  // admit(), for each new cell: slots are reused), and the label at its center when first read.
+  // Every live pentatope has one, the infinite ones too (not finite): a neighbor's info says
+  // whether it is infinite without a load of its record (the loads of neighbors' records were most
+  // of find_restricted_facet's time). 64 bytes, aligned: one cache line each (neighbors' infos are
+  // read in every classification).
   struct alignas(64) CellInfo {
     Point4 center;
     double radius = 0;
