@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "delaunay/insphere_batch.h"
 #include "delaunay/predicate_kernels.h"
 #include "delaunay/predicates.h"
 #include "delaunay/spatial_sort.h"
@@ -103,6 +104,42 @@ bool Triangulation::in_conflict(CellId c, const Point4& p, VertexId pid) const {
   return in_conflict(cell.n[inf], p, pid);
 }
 
+void Triangulation::conflicts(const CellId* cells, int count, const Point4& p, VertexId pid,
+                              bool* conflict) const {
+  // Finite pentatopes go through the in-sphere filter four at a time (a short group is padded
+  // with its first); what it leaves undecided, and infinite pentatopes, one at a time.
+  const Point4* vertices[4][5];
+  int index[4];
+  int lanes = 0;
+  const auto flush = [&] {
+    if (lanes == 1) {  // alone: the scalar filter is as fast
+      conflict[index[0]] = in_conflict(cells[index[0]], p, pid);
+      lanes = 0;
+      return;
+    }
+    for (int l = lanes; l < 4; ++l) std::copy(vertices[0], vertices[0] + 5, vertices[l]);
+    int verdict[4];
+    detail::insphere_semi_static4(vertices, p, verdict);
+    for (int l = 0; l < lanes; ++l)
+      conflict[index[l]] = verdict[l] != detail::kUndecided
+                               ? verdict[l] > 0
+                               : detail::insphere4_sos_past_semi_static(
+                                     vertices[l], store_.cell(cells[index[l]]).v, p, pid) > 0;
+    lanes = 0;
+  };
+  for (int k = 0; k < count; ++k) {
+    const Pentatope& cell = store_.cell(cells[k]);
+    if (store_.index_of(cells[k], kInfiniteVertex) >= 0) {
+      conflict[k] = in_conflict(cells[k], p, pid);
+      continue;
+    }
+    for (int v = 0; v < 5; ++v) vertices[lanes][v] = &store_.point(cell.v[v]);
+    index[lanes++] = k;
+    if (lanes == 4) flush();
+  }
+  if (lanes > 0) flush();
+}
+
 CellId Triangulation::locate(const Point4& p, CellId hint) const {
   CellId c = (hint != kNoCell && store_.is_live(hint)) ? hint : any_cell();
   return locate(p, c, own_, nullptr);
@@ -153,16 +190,27 @@ bool Triangulation::find_cavity(const Point4& p, VertexId pid, CellId start, Cav
   store_.cell(start).mark = in_cavity;
   cavity.cells.push_back(start);
   // Breadth-first over the cavity; each neighbor is tested at most once per search thanks to the
-  // stamps (a rejecting neighbor shared by several cavity pentatopes is not tested again).
+  // stamps (a rejecting neighbor shared by several cavity pentatopes is not tested again). The
+  // neighbors of a cavity pentatope not judged yet are tested together (conflicts()), then
+  // handled in facet order, as one at a time: the same cavity, in the same order.
   for (std::size_t k = 0; k < cavity.cells.size(); ++k) {
     const CellId c = cavity.cells[k];
-    for (int i = 0; i < 5; ++i) {
+    CellId untested[5];
+    int count = 0;
+    for (const CellId d : store_.cell(c).n) {
+      const std::uint32_t mark = store_.cell(d).mark;
+      if (mark == in_cavity || mark == rejected) continue;
+      if (guard && !guard->acquire(d)) return false;
+      untested[count++] = d;
+    }
+    bool conflict[5];
+    conflicts(untested, count, p, pid, conflict);
+    for (int i = 0, t = 0; i < 5; ++i) {
       const CellId d = store_.cell(c).n[i];
       Pentatope& neighbor = store_.cell(d);
       if (neighbor.mark == in_cavity) continue;
       if (neighbor.mark != rejected) {
-        if (guard && !guard->acquire(d)) return false;
-        if (in_conflict(d, p, pid)) {
+        if (conflict[t++]) {
           neighbor.mark = in_cavity;
           cavity.cells.push_back(d);
           // Its neighbors are tested soon: start their loads now (memory latency dominates).

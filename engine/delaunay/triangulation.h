@@ -92,6 +92,10 @@ class Triangulation {
 
   /// Whether the pentatope's (perturbed) circumsphere contains the point p with id pid.
   bool in_conflict(CellId c, const Point4& p, VertexId pid) const;
+  /// in_conflict() of `count` (at most 5) pentatopes into conflict[0..count), the finite ones
+  /// four at a time through the batched in-sphere filter: the same answers.
+  void conflicts(const CellId* cells, int count, const Point4& p, VertexId pid,
+                 bool* conflict) const;
 
   /// Fills `cavity` with the conflict region of p (id pid) grown from `start`, which must be in
   /// conflict. Stamps visited pentatopes; changes nothing else.
