@@ -266,6 +266,9 @@ class Refiner {
   // those of the ones that died (−1) and of the new ones (+1).
   void note_doomed_facets(Worker& w, int rule);
   void log_facet_changes(Worker& w);
+  // Drops the pairs of changes[first..] that cancel (a facet that went and came back between
+  // the same labels).
+  static void cancel_opposite_changes(std::vector<FacetChange>& changes, std::size_t first);
   // Appends c's region-boundary facets (c's side first) as (c, other, change) to `out`.
   void boundary_facets_of(delaunay::CellId c, int delta, std::vector<DoomedFacet>& out) const;
   // The pentatopes around triangle t, in order, from `start` (which must contain t), and for

@@ -280,6 +280,7 @@ void Refiner::log_facet_changes(Worker& w) {
         std::lower_bound(w.doomed.begin(), w.doomed.end(), std::pair<CellId, VertexId>{c, 0});
     return it != w.doomed.end() && it->first == c;
   };
+  const std::size_t first_change = w.facet_changes.size();
   for (const DoomedFacet& f : w.doomed_facets)
     if (died(f.cell) && !(died(f.other) && f.other < f.cell)) w.facet_changes.push_back(f.change);
   w.doomed_facets.clear();
@@ -288,6 +289,27 @@ void Refiner::log_facet_changes(Worker& w) {
     if (!(f.other < f.cell && std::binary_search(w.fresh.begin(), w.fresh.end(), f.other)))
       w.facet_changes.push_back(f.change);
   w.doomed_facets.clear();
+  cancel_opposite_changes(w.facet_changes, first_change);
+}
+
+void Refiner::cancel_opposite_changes(std::vector<FacetChange>& changes, std::size_t first) {
+  // A facet of the cavity's boundary went with its dead pentatope and came with the new one on
+  // the same side: with the same labels, the two changes cancel. Dropped here, before each
+  // costs eight updates of the pinch counts (such pairs were most of the changes on Pat05).
+  const auto key = [](const FacetChange& f) { return std::tie(f.facet, f.a, f.b, f.delta); };
+  std::sort(changes.begin() + static_cast<std::ptrdiff_t>(first), changes.end(),
+            [&](const FacetChange& x, const FacetChange& y) { return key(x) < key(y); });
+  std::size_t kept = first;
+  for (std::size_t i = first; i < changes.size(); ++i) {
+    if (i + 1 < changes.size() && changes[i].delta < 0 && changes[i + 1].delta > 0 &&
+        changes[i].facet == changes[i + 1].facet && changes[i].a == changes[i + 1].a &&
+        changes[i].b == changes[i + 1].b) {
+      ++i;  // both go
+      continue;
+    }
+    changes[kept++] = changes[i];
+  }
+  changes.resize(kept);
 }
 
 std::size_t Refiner::count_from_facet_changes(std::vector<PinchedTriangle>* pinched) {
