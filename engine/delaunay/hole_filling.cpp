@@ -4,25 +4,11 @@
 #include <array>
 #include <cmath>
 
+#include "delaunay/facet_key.h"
 #include "delaunay/predicates.h"
 
 namespace mesh4d::delaunay {
 namespace {
-
-using FacetKey = std::array<VertexId, 4>;
-
-FacetKey facet_key(const VertexId v[5], int opposite) {
-  FacetKey key;
-  for (int i = 0, k = 0; i < 5; ++i)
-    if (i != opposite) key[k++] = v[i];
-  // A sorting network: five compare-exchanges, no calls (std::sort was a tenth of a removal).
-  const auto order = [&](int i, int j) {
-    const VertexId lo = std::min(key[i], key[j]), hi = std::max(key[i], key[j]);
-    key[i] = lo, key[j] = hi;
-  };
-  order(0, 1), order(2, 3), order(0, 2), order(1, 3), order(1, 2);
-  return key;
-}
 
 bool same_key(const FacetKey& a, const FacetKey& b) {
   return ((a[0] ^ b[0]) | (a[1] ^ b[1]) | (a[2] ^ b[2]) | (a[3] ^ b[3])) == 0;

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "delaunay/facet_key.h"
 #include "delaunay/spatial_sort.h"
 #include "domain/junctions.h"
 #include "refine/parallel_parts.h"
@@ -83,10 +84,7 @@ std::size_t Refiner::count_pinches(std::vector<PinchedTriangle>* pinched,
         const CellId n = cell.n[i];
         const domain::Label other = output_label(n);
         if (other == label_of(c)) continue;
-        std::array<std::uint32_t, 4> facet;
-        for (int k = 0, m = 0; k < 5; ++k)
-          if (k != i) facet[m++] = cell.v[k];
-        std::sort(facet.begin(), facet.end());
+        const delaunay::FacetKey facet = delaunay::facet_key(cell.v, i);
         for (int skip = 0; skip < 4; ++skip) {
           Record r{{label_of(c), 0, 0, 0}, 0, c, i};
           for (int k = 0, m = 1; k < 4; ++k)
@@ -237,11 +235,7 @@ void Refiner::boundary_facets_of(CellId c, int delta, std::vector<DoomedFacet>& 
   for (int i = 0; i < 5; ++i) {
     const domain::Label other = output_label(cell.n[i]);
     if (other == own) continue;
-    DoomedFacet f{c, cell.n[i], {{}, own, other, delta, c}};
-    for (int k = 0, m = 0; k < 5; ++k)
-      if (k != i) f.change.facet[m++] = cell.v[k];
-    std::sort(f.change.facet.begin(), f.change.facet.end());
-    out.push_back(f);
+    out.push_back({c, cell.n[i], {delaunay::facet_key(cell.v, i), own, other, delta, c}});
   }
 }
 
