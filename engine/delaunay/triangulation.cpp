@@ -112,7 +112,7 @@ void Triangulation::conflicts(const CellId* cells, int count, const Point4& p, V
   int index[4];
   int lanes = 0;
   const auto flush = [&] {
-    if (lanes == 1) {  // alone: the scalar filter is as fast
+    if (lanes == 1) {  // alone: the scalar filter is faster
       conflict[index[0]] = in_conflict(cells[index[0]], p, pid);
       lanes = 0;
       return;

@@ -33,9 +33,10 @@ SurfaceOracle::SurfaceOracle(const LabelImage4& image)
   for (int corner = 0; corner < 16; ++corner)
     corner_offset_[corner] =
         image.linear_index(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1, (corner >> 3) & 1);
-  // A closed image (validate_and_close) has background all around: then a cell on the border
-  // has only background corners, and its label is known without reading them (on the
-  // hypersphere the circumcenters of a tenth of the new pentatopes fall in such cells).
+  // A closed image (validate_and_close) has background all around: then every corner inside
+  // the image of a cell on its border lies on that outer layer, so the cell is background
+  // without a read of its corners (the circumcenters of big pentatopes outside the object fall
+  // in such cells).
   border_background_ = true;
   const Dims4& d = image.dims();
   for (std::size_t t = 0; t < d[3] && border_background_; ++t)

@@ -44,8 +44,9 @@ MeshStats compute_stats(const Mesh4& mesh) {
     for (int i = 0; i < 5; ++i) s[i] = mesh.vertices[p[i]];
     const double edge = delaunay::shortest_edge(s);
     shortest = std::min(shortest, edge);
-    ratio.add(delaunay::circumradius(s) / edge);
-    const double v = delaunay::normalized_volume(s);
+    const double radius = delaunay::circumradius(s);  // once: both measures need it
+    ratio.add(radius / edge);
+    const double v = delaunay::normalized_volume(s, radius);
     volume.add(v);
     const int bin = std::clamp(static_cast<int>(v * kHistogramBins), 0, kHistogramBins - 1);
     ++stats.normalized_volume_histogram[bin];

@@ -254,8 +254,10 @@ class Refiner {
   unsigned scan_parts(std::size_t items) const;
   // Every pinch, from a scan of the whole triangulation.
   // With `counts`, also fills it with every triangle's count.
-  std::size_t count_pinches(std::vector<PinchedTriangle>* pinched,
-                            PinchCounts* counts = nullptr) const;
+  // With `only_if_pinched`, `counts` stays empty when there is no pinch (the repair stops then,
+  // and the table would go unused: a single label, the hypersphere's case).
+  std::size_t count_pinches(std::vector<PinchedTriangle>* pinched, PinchCounts* counts = nullptr,
+                            bool only_if_pinched = false) const;
   // The same count after a full one, from pinch_counts_ updated with the facet changes that
   // operations logged since: only the pinched triangles are walked. (Until session 11 every
   // triangle of every region-boundary facet of a pentatope made since was walked: a sixth of
