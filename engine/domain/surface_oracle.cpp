@@ -294,9 +294,9 @@ std::optional<SurfacePoint> SurfaceOracle::first_crossing(const Point4& a, const
   return k->middle();
 }
 
-std::optional<SurfaceBracket> SurfaceOracle::first_bracket(const Point4& a, const Point4& b,
-                                                           double tolerance, const Label* label_a,
-                                                           const GiveUp* give_up) const {
+std::optional<SurfaceBracket> SurfaceOracle::first_bracket(
+    const Point4& a, const Point4& b, double tolerance, const Label* label_a, const GiveUp* give_up,
+    const WalkDismissal* walk_dismissal) const {
   const Label la = label_a ? *label_a : label_at(a);  // the caller may know it
   // Only the part of the segment within a cell of the voxel centers can see a label change:
   // beyond, every point is background. Clipping also keeps the walk short when an end is far
@@ -329,6 +329,11 @@ std::optional<SurfaceBracket> SurfaceOracle::first_bracket(const Point4& a, cons
     const Point4 p = lerp(start, end, double(i) / steps);
     if (const Label lp = label_at(p); lp != la) return narrow({previous, p, la, lp}, tolerance);
     if (give_up && distance(give_up->from, p) > give_up->distance) return std::nullopt;
+    // Every other sample: the crossing lies beyond p; the rest may all be dropped.
+    if (walk_dismissal && i % 2 == 0 && walk_dismissal->dismissal->drops(p, walk_dismissal->end)) {
+      *walk_dismissal->dropped = true;
+      return std::nullopt;
+    }
     previous = p;
   }
   return std::nullopt;
@@ -398,7 +403,7 @@ bool SurfaceOracle::cfp_candidates(const Point4& x, const PointFacts& known, Cfp
   for (int i = 0; i < edge_count; ++i)
     edges[i] = search_edges ? narrow(edges[i], tolerance) : edge_bracket(edges[i], tolerance);
   // A dismissal is asked about where the candidates can lie, first before the ray's walk, then
-  // before its crossing is halved. An edge's crossing is edge_bracket's middle, or where a
+  // about the rest of the walk as it goes, then before its crossing is halved. An edge's crossing is edge_bracket's middle, or where a
   // search finds it when rounding put that outside its bracket: the cut function is linear
   // along the edge (only its two voxels weigh), so within far less than the bracket's length
   // of it; edge brackets are asked about three times as long. A ray's crossing lies between
@@ -433,18 +438,22 @@ bool SurfaceOracle::cfp_candidates(const Point4& x, const PointFacts& known, Cfp
     const Point4 start = walk_start(end);
     // Its crossing lies beyond `lower`.
     const bool ray_loses = give_up.distance <= lower;
-    if (edges_dropped &&
-        (ray_loses ||
-         dismissal->drops(
-             start, give_up.distance < length ? lerp(x, end, give_up.distance / length) : end)))
-      return false;
+    const Point4 relevant_end =
+        give_up.distance < length ? lerp(x, end, give_up.distance / length) : end;
+    if (edges_dropped && (ray_loses || dismissal->drops(start, relevant_end))) return false;
+    // As the walk goes, the rest of it is asked about again: a shorter segment is dropped more
+    // often (most walks of dropped searches used to run to their crossing).
+    bool walk_dropped = false;
+    const WalkDismissal walk_dismissal{dismissal, relevant_end, &walk_dropped};
     // From x itself (x close to ∂Ω: the bound is 0), its label is known. Halving the walk's
     // bracket later in the same steps gives the same bracket.
     auto k = ray_loses ? std::nullopt
                        : first_bracket(
                              start, end,
                              edges_dropped ? std::numeric_limits<double>::infinity() : tolerance,
-                             start == x ? &known.label : nullptr, &give_up);
+                             start == x ? &known.label : nullptr, &give_up,
+                             edges_dropped ? &walk_dismissal : nullptr);
+    if (walk_dropped) return false;
     if (k && edges_dropped) {
       if (dismissal->drops(k->a, k->b)) return false;
       *k = narrow(*k, tolerance);

@@ -105,8 +105,8 @@ class SurfaceOracle {
     ~Dismissal() = default;
   };
   /// The same, for such a caller: when `dismissal` drops every place where the candidates can
-  /// lie, asked before the ray's walk and again before its crossing is halved, nothing more is
-  /// done, *dropped is set and nothing returned; otherwise the same answer as without it, and
+  /// lie, asked before the ray's walk, as it goes, and before its crossing is halved, nothing more
+  /// is done, *dropped is set and nothing returned; otherwise the same answer as without it, and
   /// *dropped is cleared.
   std::optional<SurfaceBracket> closest_surface_bracket(const Point4& x, const PointFacts& known,
                                                         const Dismissal* dismissal,
@@ -155,9 +155,17 @@ class SurfaceOracle {
     Point4 from;
     double distance;
   };
+  // With a `walk_dismissal`: nothing either, and *dropped set, once its dismissal drops the
+  // rest of the walk (from a sample still of a's label to walk_dismissal.end).
+  struct WalkDismissal {
+    const Dismissal* dismissal;
+    Point4 end;
+    bool* dropped;
+  };
   std::optional<SurfaceBracket> first_bracket(const Point4& a, const Point4& b, double tolerance,
                                               const Label* label_a = nullptr,
-                                              const GiveUp* give_up = nullptr) const;
+                                              const GiveUp* give_up = nullptr,
+                                              const WalkDismissal* walk_dismissal = nullptr) const;
   // cfp's candidates (see CfpMode) into `out`, nearest to x first, x's side as a. Crossings on
   // voxel edges are computed (edge_bracket), or with `search_edges` found by halving.
   void cfp_starts(const Point4& x, const PointFacts& known, CfpMode mode, double tolerance,
