@@ -78,15 +78,17 @@ std::size_t Refiner::count_pinches(std::vector<PinchedTriangle>* pinched, PinchC
   run_parts(parts, [&](unsigned part) {
     const auto [begin, end] = part_range(st.cell_slots(), part, parts);
     for (CellId c = static_cast<CellId>(begin); c < end; ++c) {
-      if (!st.is_live(c) || !info_[c].finite || label_of(c) == 0) continue;
+      if (!st.is_live(c) || !info_[c].finite) continue;
+      const domain::Label own = label_of(c);  // read once: up to 21 uses below
+      if (own == 0) continue;
       const auto& cell = st.cell(c);
       for (int i = 0; i < 5; ++i) {
         const CellId n = cell.n[i];
         const domain::Label other = output_label(n);
-        if (other == label_of(c)) continue;
+        if (other == own) continue;
         const delaunay::FacetKey facet = delaunay::facet_key(cell.v, i);
         for (int skip = 0; skip < 4; ++skip) {
-          Record r{{label_of(c), 0, 0, 0}, 0, c, i};
+          Record r{{own, 0, 0, 0}, 0, c, i};
           for (int k = 0, m = 1; k < 4; ++k)
             if (k != skip) r.key[m++] = facet[k];
           r.hash = hash_key(r.key[0], r.key[1], r.key[2], r.key[3]);
