@@ -400,7 +400,7 @@ void Refiner::enqueue(Worker& w, CellId c) {
   }
   std::lock_guard lock(w.queue_mutex);
   w.queues[rule].push_back(k);
-  queued_[rule].fetch_add(1, std::memory_order_relaxed);
+  w.publish_length(rule);
 }
 
 bool Refiner::still_valid(const Candidate& k) const {

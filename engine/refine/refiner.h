@@ -32,6 +32,7 @@
 #include "refine/feature_index.h"
 #include "refine/pinch_counts.h"
 #include "refine/progress.h"
+#include "refine/reader_biased_mutex.h"
 #include "refine/refine_params.h"
 
 namespace mesh4d::refine {
@@ -123,6 +124,16 @@ class Refiner {
     std::array<std::atomic<std::uint64_t>, 5> insertions{}, removals{};
     std::atomic<std::uint64_t> rollbacks{0}, contention_ns{0}, idle_ns{0};
     std::atomic<std::int64_t> live_cells{0};  // cells.live, published after each operation
+    // For the other workers' R5 gate (Refiner::pop, Refiner::work), each on a cache line of its
+    // own: its queues' lengths (written under queue_mutex) and whether it runs an operation of
+    // a rule other than R5. Counters shared by all workers made every pop, push and operation
+    // write one line that every core then had to fetch back.
+    alignas(64) std::array<std::atomic<std::int64_t>, kNone> queued{};
+    alignas(64) std::atomic<bool> higher_in_flight{false};
+    // After changing queues[r], under queue_mutex.
+    void publish_length(int r) {
+      queued[r].store(static_cast<std::int64_t>(queues[r].size()), std::memory_order_relaxed);
+    }
   };
   enum class Outcome { done, skipped, conflict };
   // What every rule asks of a pentatope, computed once when it is created: its circumball (in
@@ -211,7 +222,9 @@ class Refiner {
   bool pop(Worker& w, Shared& shared, Candidate* k, Rule* rule);
   // Takes the older half of another worker's queues (of one rule only, unless kNone).
   bool steal(Worker& w, Shared& shared, Rule only = kNone);
-  void distribute_work(unsigned threads);  // all queued work split among the workers
+  bool queued_anywhere(const Shared& shared, Rule rule) const;  // in any worker's queues
+  bool higher_in_flight(const Shared& shared) const;  // an R1–R4 operation under way anywhere
+  void distribute_work(unsigned threads);             // all queued work split among the workers
   // Pops and applies one candidate: locks its pentatope (in a parallel phase), classifies it,
   // inserts the rule's point. The caller releases the locks.
   Outcome process(Worker& w, const Candidate& k);
@@ -353,10 +366,8 @@ class Refiner {
   std::array<Point4, 2> box_;
   std::vector<std::unique_ptr<Worker>> workers_;  // [0] also serves single-threaded work
   bool concurrent_ready_ = false;                 // storage prepared for parallel phases
-  // Candidates queued per rule over all workers in a parallel phase (for the global priority).
-  std::array<std::atomic<std::int64_t>, kNone> queued_{};
   FeatureIndex features_;
-  mutable std::shared_mutex features_mutex_;
+  mutable ReaderBiasedMutex features_mutex_;
   std::vector<PinchedTriangle> known_pinches_;  // found by the last pinch count
   // The last repair round's refused points, by their triangle's facets (still_refused()).
   std::map<std::vector<std::pair<delaunay::CellId, int>>, RefusedPoint> refused_;
