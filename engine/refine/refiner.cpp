@@ -487,17 +487,24 @@ Refiner::Outcome Refiner::insert_and_admit(Worker& w, const Point4& point, Verte
   // The new pentatopes: the star of the new vertex (what commit made, unless removals changed
   // it), and what filled removed vertices' holes (some of those may have died in a later
   // removal).
+  // They are queued in the order commit made them, each once (the star's), or else sorted to
+  // drop repeats. Sorting the star too cost 1.4 % of the hypersphere's time; the order only
+  // picks which of equally checked meshes comes out (seeds 1-5, every row: 1 % fewer
+  // pentatopes, 2 % less time).
   if (w.near.empty() || rule != kR5) {
     w.fresh.assign(w.ws->created.begin(), w.ws->created.end());
   } else {
     tri_.incident_cells(v, w.fresh);
     for (CellId c : w.created)
       if (st.is_live(c)) w.fresh.push_back(c);
+    std::sort(w.fresh.begin(), w.fresh.end());
+    w.fresh.erase(std::unique(w.fresh.begin(), w.fresh.end()), w.fresh.end());
   }
-  std::sort(w.fresh.begin(), w.fresh.end());
-  w.fresh.erase(std::unique(w.fresh.begin(), w.fresh.end()), w.fresh.end());
   admit(w, w.fresh);
-  if (log_facets) log_facet_changes(w);
+  if (log_facets) {
+    std::sort(w.fresh.begin(), w.fresh.end());  // log_facet_changes searches them
+    log_facet_changes(w);
+  }
   return Outcome::done;
 }
 
