@@ -130,7 +130,7 @@ class Refiner {
     // write one line that every core then had to fetch back.
     alignas(64) std::array<std::atomic<std::int64_t>, kNone> queued{};
     alignas(64) std::atomic<bool> higher_in_flight{false};
-    // After changing queues[r], under queue_mutex.
+    // After changing queues[r]: under queue_mutex in a parallel phase.
     void publish_length(int r) {
       queued[r].store(static_cast<std::int64_t>(queues[r].size()), std::memory_order_relaxed);
     }

@@ -245,7 +245,7 @@ void Refiner::work(Worker& w, Shared& shared, ProgressSink* sink) {
         continue;
       }
 
-      // Most candidates died in later operations (about 3 in 4 on the ventricle), often in
+      // Most candidates died in later operations (72 % on the ventricle at δ = 3), often in
       // another worker's region: a lock-free look at the record drops them before process()
       // locks their vertices (fewer rollbacks with 8 and 16 threads; no change in time seen).
       if (!still_valid(k)) continue;
