@@ -636,7 +636,7 @@ RefineResult Refiner::run(ProgressSink* sink) {
       << "label) where labels meet; a smaller delta resolves more of them";
     result.warnings.push_back(s.str());
   }
-  result.stats = mesh::compute_stats(result.mesh);
+  result.stats = mesh::compute_stats(result.mesh, params_.threads);
   const Progress done = totals();
   for (int r = 0; r < 5; ++r) {
     result.stats.insertions[r] = done.insertions[r];

@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
+#include <random>
+#include <set>
 
 #include "mesh/mesh_check.h"
 #include "mesh/mesh_stats.h"
@@ -110,6 +113,35 @@ TEST(MeshStats, CountsAndDistributions) {
   for (auto c : s.normalized_volume_histogram) total += c;
   EXPECT_EQ(total, 2u);
   EXPECT_EQ(s.normalized_volume_histogram.size(), std::size_t(kHistogramBins));
+}
+
+TEST(MeshStats, ThreadsGiveTheSameCountsExtremesAndHistogram) {
+  // 100,000 random pentatopes: shares of 16,384 or more, so 4 threads make 4 parts.
+  Mesh4 mesh;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> coordinate(0, 10);
+  for (int i = 0; i < 2000; ++i)
+    mesh.vertices.push_back({coordinate(rng), coordinate(rng), coordinate(rng), coordinate(rng)});
+  std::uniform_int_distribution<std::uint32_t> vertex(0, 1999);
+  for (int k = 0; k < 100000; ++k) {
+    std::array<std::uint32_t, 5> p;
+    for (auto& v : p) v = vertex(rng);
+    if (std::set<std::uint32_t>(p.begin(), p.end()).size() == 5) mesh.pentatopes.push_back(p);
+  }
+  const MeshStats one = compute_stats(mesh, 1);
+  const MeshStats four = compute_stats(mesh, 4);
+  ASSERT_GT(one.pentatopes, 90000u);
+  EXPECT_EQ(four.pentatopes, one.pentatopes);
+  EXPECT_EQ(four.shortest_edge, one.shortest_edge);
+  EXPECT_EQ(four.normalized_volume_histogram, one.normalized_volume_histogram);
+  for (const auto& [a, b] : {std::pair{one.radius_edge_ratio, four.radius_edge_ratio},
+                             std::pair{one.normalized_volume, four.normalized_volume}}) {
+    EXPECT_EQ(b.min, a.min);
+    EXPECT_EQ(b.max, a.max);
+    EXPECT_NEAR(b.mean, a.mean, 1e-12 * std::abs(a.mean));
+    EXPECT_NEAR(b.stddev, a.stddev, 1e-9 * a.stddev);
+    EXPECT_GT(a.stddev, 0);
+  }
 }
 
 TEST(BoundaryCheck, OnePentatopeIsClosedAndTheSmallMeshIsNot) {
