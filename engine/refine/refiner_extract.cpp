@@ -1,0 +1,102 @@
+// Extraction: the output mesh from the final triangulation, on the job's threads. The output is
+// the finite pentatopes whose circumcenter lies inside a label, tagged with it, in cell order;
+// their vertices in vertex-id order; and the boundary tetrahedra (facets between a kept
+// pentatope and a neighbor of another label, or none) in the order of their pentatopes.
+#include <algorithm>
+#include <atomic>
+
+#include "refine/parallel_parts.h"
+#include "refine/refiner.h"
+
+namespace mesh4d::refine {
+
+using delaunay::CellId;
+using delaunay::VertexKind;
+
+namespace {
+
+constexpr std::uint32_t kUnset = 0xFFFFFFFFu;
+constexpr std::size_t kMinShare = 65536;  // cell slots per thread, at least
+
+mesh::VertexKind output_kind(VertexKind k) {
+  return k == VertexKind::feature ? mesh::VertexKind::feature
+         : k == VertexKind::box   ? mesh::VertexKind::box
+                                  : mesh::VertexKind::free;
+}
+
+}  // namespace
+
+mesh::Mesh4 Refiner::extract(std::vector<std::string>& warnings) const {
+  const auto& st = tri_.store();
+  const std::size_t slots = st.cell_slots();
+  const unsigned parts = static_cast<unsigned>(
+      std::clamp<std::size_t>(slots / kMinShare, 1, std::max(params_.threads, 1u)));
+
+  // Pass 1, by shares of the cell slots: every pentatope's label, which are kept, and which
+  // vertices they use (several threads may mark one vertex: atomic stores of the same value).
+  std::vector<domain::Label> label(slots, 0);
+  std::vector<std::uint8_t> used(st.vertex_slots(), 0);
+  std::vector<std::size_t> first(parts + 1, 0);  // output index of each share's first pentatope
+  run_parts(parts, [&](unsigned part) {
+    const auto [begin, end] = part_range(slots, part, parts);
+    std::size_t kept = 0;
+    for (CellId c = static_cast<CellId>(begin); c < end; ++c) {
+      if (!st.is_live(c) || st.is_infinite(c) || !info_[c].finite) continue;
+      label[c] = label_of(c);
+      if (label[c] == 0) continue;
+      ++kept;
+      for (VertexId v : st.cell(c).v) std::atomic_ref(used[v]).store(1, std::memory_order_relaxed);
+    }
+    first[part + 1] = kept;
+  });
+  for (unsigned p = 0; p < parts; ++p) first[p + 1] += first[p];
+
+  // The vertices, numbered in id order (one pass over a byte per vertex).
+  mesh::Mesh4 mesh;
+  std::vector<std::uint32_t> vertex_index(st.vertex_slots(), kUnset);
+  for (VertexId v = 0; v < st.vertex_slots(); ++v) {
+    if (!used[v]) continue;
+    vertex_index[v] = static_cast<std::uint32_t>(mesh.vertices.size());
+    mesh.vertices.push_back(st.point(v));
+    mesh.vertex_kinds.push_back(output_kind(st.vertex(v).kind));
+  }
+
+  // Pass 2, the same shares: the pentatopes in their places, and each share's boundary
+  // tetrahedra, joined in share order afterwards.
+  mesh.pentatopes.resize(first[parts]);
+  mesh.labels.resize(first[parts]);
+  std::vector<std::vector<mesh::BoundaryTetrahedron>> boundary(parts);
+  run_parts(parts, [&](unsigned part) {
+    const auto [begin, end] = part_range(slots, part, parts);
+    std::size_t out = first[part];
+    for (CellId c = static_cast<CellId>(begin); c < end; ++c) {
+      if (label[c] == 0) continue;
+      const auto& cell = st.cell(c);
+      const auto index = static_cast<std::uint32_t>(out++);
+      for (int i = 0; i < 5; ++i) mesh.pentatopes[index][i] = vertex_index[cell.v[i]];
+      mesh.labels[index] = label[c];
+      for (int i = 0; i < 5; ++i) {
+        const CellId n = cell.n[i];
+        const domain::Label other = st.is_infinite(n) ? 0 : label[n];
+        if (other == label[c]) continue;
+        mesh::BoundaryTetrahedron b;
+        for (int k = 0, m = 0; k < 5; ++k)
+          if (k != i) b.vertices[m++] = vertex_index[cell.v[k]];
+        b.pentatope = index;
+        b.inner = label[c];
+        b.outer = other;
+        boundary[part].push_back(b);
+      }
+    }
+  });
+  for (const auto& share : boundary)
+    mesh.boundary.insert(mesh.boundary.end(), share.begin(), share.end());
+
+  if (mesh.pentatopes.empty())
+    warnings.push_back(
+        "no pentatope has its circumcenter inside the object: delta may be too "
+        "large for this image");
+  return mesh;
+}
+
+}  // namespace mesh4d::refine
