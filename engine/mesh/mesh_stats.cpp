@@ -77,7 +77,7 @@ MeshStats compute_stats(const Mesh4& mesh, unsigned threads) {
   stats.pentatopes = mesh.pentatopes.size();
   stats.boundary_tetrahedra = mesh.boundary.size();
   // A share of fewer than kMinShare pentatopes is not worth a thread.
-  constexpr std::size_t kMinShare = 16384;
+  constexpr std::size_t kMinShare = 4096;
   const unsigned parts = static_cast<unsigned>(
       std::clamp<std::size_t>(mesh.pentatopes.size() / kMinShare, 1, std::max(threads, 1u)));
   std::vector<Part> measured(parts);

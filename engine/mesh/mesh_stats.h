@@ -37,7 +37,7 @@ struct MeshStats {
 inline constexpr int kHistogramBins = 20;
 
 /// Measures every pentatope of the mesh (counts and distributions; rule counts and time are
-/// left at zero for the caller), on up to `threads` threads (shares of at least 16,384
+/// left at zero for the caller), on up to `threads` threads (shares of at least 4,096
 /// pentatopes). The counts, extremes and histogram are the same on any number of threads; the
 /// means and deviations may differ in their last bits.
 MeshStats compute_stats(const Mesh4& mesh, unsigned threads = 1);

@@ -16,7 +16,7 @@ using delaunay::VertexKind;
 namespace {
 
 constexpr std::uint32_t kUnset = 0xFFFFFFFFu;
-constexpr std::size_t kMinShare = 65536;  // cell slots per thread, at least
+constexpr std::size_t kMinShare = 8192;  // cell slots per thread, at least
 
 mesh::VertexKind output_kind(VertexKind k) {
   return k == VertexKind::feature ? mesh::VertexKind::feature

@@ -116,7 +116,7 @@ TEST(MeshStats, CountsAndDistributions) {
 }
 
 TEST(MeshStats, ThreadsGiveTheSameCountsExtremesAndHistogram) {
-  // 100,000 random pentatopes: shares of 16,384 or more, so 4 threads make 4 parts.
+  // 100,000 random pentatopes: shares of 4,096 or more, so 4 threads make 4 parts.
   Mesh4 mesh;
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> coordinate(0, 10);
