@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <thread>
 #include <vector>
 
 #include "delaunay/geometry.h"
+#include "delaunay/parallel_parts.h"
 
 namespace mesh4d::mesh {
 namespace {
@@ -81,15 +81,10 @@ MeshStats compute_stats(const Mesh4& mesh, unsigned threads) {
   const unsigned parts = static_cast<unsigned>(
       std::clamp<std::size_t>(mesh.pentatopes.size() / kMinShare, 1, std::max(threads, 1u)));
   std::vector<Part> measured(parts);
-  const auto share = [&](unsigned p) {
-    const std::size_t n = mesh.pentatopes.size();
-    measure(mesh, n * p / parts, n * (p + 1) / parts, measured[p]);
-  };
-  {
-    std::vector<std::jthread> pool;
-    for (unsigned p = 1; p < parts; ++p) pool.emplace_back(share, p);
-    share(0);
-  }  // joined
+  delaunay::run_parts(parts, [&](unsigned p) {
+    const auto [begin, end] = delaunay::part_range(mesh.pentatopes.size(), p, parts);
+    measure(mesh, begin, end, measured[p]);
+  });
   // Merged in part order: the result depends on the thread count only in the last bits of the
   // means and deviations.
   Part all = std::move(measured[0]);

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <atomic>
 
-#include "refine/parallel_parts.h"
+#include "delaunay/parallel_parts.h"
 #include "refine/refiner.h"
 
 namespace mesh4d::refine {
@@ -37,8 +37,8 @@ mesh::Mesh4 Refiner::extract(std::vector<std::string>& warnings) const {
   std::vector<domain::Label> label(slots, 0);
   std::vector<std::uint8_t> used(st.vertex_slots(), 0);
   std::vector<std::size_t> first(parts + 1, 0);  // output index of each share's first pentatope
-  run_parts(parts, [&](unsigned part) {
-    const auto [begin, end] = part_range(slots, part, parts);
+  delaunay::run_parts(parts, [&](unsigned part) {
+    const auto [begin, end] = delaunay::part_range(slots, part, parts);
     std::size_t kept = 0;
     for (CellId c = static_cast<CellId>(begin); c < end; ++c) {
       if (!st.is_live(c) || st.is_infinite(c) || !info_[c].finite) continue;
@@ -66,8 +66,8 @@ mesh::Mesh4 Refiner::extract(std::vector<std::string>& warnings) const {
   mesh.pentatopes.resize(first[parts]);
   mesh.labels.resize(first[parts]);
   std::vector<std::vector<mesh::BoundaryTetrahedron>> boundary(parts);
-  run_parts(parts, [&](unsigned part) {
-    const auto [begin, end] = part_range(slots, part, parts);
+  delaunay::run_parts(parts, [&](unsigned part) {
+    const auto [begin, end] = delaunay::part_range(slots, part, parts);
     std::size_t out = first[part];
     for (CellId c = static_cast<CellId>(begin); c < end; ++c) {
       if (label[c] == 0) continue;

@@ -9,9 +9,9 @@
 #include <tuple>
 
 #include "delaunay/facet_key.h"
+#include "delaunay/parallel_parts.h"
 #include "delaunay/spatial_sort.h"
 #include "domain/junctions.h"
-#include "refine/parallel_parts.h"
 #include "refine/refiner.h"
 
 namespace mesh4d::refine {
@@ -75,8 +75,8 @@ std::size_t Refiner::count_pinches(std::vector<PinchedTriangle>* pinched, PinchC
   const unsigned parts = scan_parts(st.cell_slots());
   std::vector<std::vector<std::vector<Record>>> records(parts,
                                                         std::vector<std::vector<Record>>(parts));
-  run_parts(parts, [&](unsigned part) {
-    const auto [begin, end] = part_range(st.cell_slots(), part, parts);
+  delaunay::run_parts(parts, [&](unsigned part) {
+    const auto [begin, end] = delaunay::part_range(st.cell_slots(), part, parts);
     for (CellId c = static_cast<CellId>(begin); c < end; ++c) {
       if (!st.is_live(c) || !info_[c].finite) continue;
       const domain::Label own = label_of(c);  // read once: up to 21 uses below
@@ -107,7 +107,7 @@ std::size_t Refiner::count_pinches(std::vector<PinchedTriangle>* pinched, PinchC
   std::vector<std::vector<Slot>> tables(counts ? parts : 0);
   std::vector<std::size_t> pinches(parts, 0);
   std::vector<std::vector<PinchedTriangle>> found(parts);
-  run_parts(parts, [&](unsigned part) {
+  delaunay::run_parts(parts, [&](unsigned part) {
     const std::size_t size = table_size(records, part);
     std::vector<Slot> table(size);
     const auto slot_of = [&](const Record& r) -> Slot& {

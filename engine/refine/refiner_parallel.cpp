@@ -20,7 +20,7 @@
 #include <exception>
 #include <thread>
 
-#include "refine/parallel_parts.h"
+#include "delaunay/parallel_parts.h"
 #include "refine/refiner.h"
 
 namespace mesh4d::refine {
@@ -381,9 +381,9 @@ std::size_t Refiner::insert_repair_points(const std::vector<RepairPoint>& points
   std::vector<std::size_t> done(threads, 0);
   enter_parallel(threads);
   try {
-    run_parts(threads, [&](unsigned part) {
+    delaunay::run_parts(threads, [&](unsigned part) {
       Worker& w = *workers_[part];
-      const auto [begin, end] = part_range(points.size(), part, threads);
+      const auto [begin, end] = delaunay::part_range(points.size(), part, threads);
       for (std::size_t i = begin; i < end; ++i) {
         const RepairPoint& r = points[i];
         if (feature_within(r.point, min_spacing)) continue;

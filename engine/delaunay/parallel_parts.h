@@ -1,6 +1,7 @@
-// Read-only scans between the parallel refinement phases (pinch counts, extraction) on the
-// job's threads: part p of `parts` runs on its own thread, part 0 on the caller's, and the
-// call returns when all are done. The first exception a part throws is rethrown here.
+// Work split into shares on the job's threads (the refiner's pinch counts, repair points and
+// extraction between its parallel phases; the mesh statistics): part p of `parts` runs on its own
+// thread, part 0 on the caller's, and the call returns when all are done. The first exception a
+// part throws is rethrown here.
 #pragma once
 
 #include <exception>
@@ -8,7 +9,7 @@
 #include <thread>
 #include <vector>
 
-namespace mesh4d::refine {
+namespace mesh4d::delaunay {
 
 template <class Fn>
 void run_parts(unsigned parts, Fn&& fn) {
@@ -40,4 +41,4 @@ inline std::pair<std::size_t, std::size_t> part_range(std::size_t n, unsigned p,
   return {n * p / parts, n * (p + 1) / parts};
 }
 
-}  // namespace mesh4d::refine
+}  // namespace mesh4d::delaunay
