@@ -551,7 +551,7 @@ void Refiner::drain_sequential(ProgressSink* sink) {
                                         ? std::array<Rule, 6>{kR3, kR1, kR2, kR4, kSizing, kR5}
                                         : std::array<Rule, 6>{kR1, kR2, kR3, kR4, kSizing, kR5};
   while (true) {
-    std::vector<Candidate>* queue = nullptr;
+    BlockStack<Candidate>* queue = nullptr;
     for (Rule r : order)
       if (!w.queues[r].empty()) {
         queue = &w.queues[r];

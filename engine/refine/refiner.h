@@ -29,6 +29,7 @@
 #include "domain/surface_oracle.h"
 #include "mesh/mesh4.h"
 #include "mesh/mesh_stats.h"
+#include "refine/block_stack.h"
 #include "refine/feature_index.h"
 #include "refine/pinch_counts.h"
 #include "refine/progress.h"
@@ -114,10 +115,10 @@ class Refiner {
     std::vector<FacetChange> facet_changes;
     std::vector<std::pair<delaunay::CellId, mesh4d::VertexId>> doomed;
     std::vector<DoomedFacet> doomed_facets;
-    std::vector<mesh4d::VertexId> removed;             // of near, by the current operation
-    std::mutex queue_mutex;                            // the queues, which thieves also take from
-    std::array<std::vector<Candidate>, kNone> queues;  // one stack per rule
-    std::vector<std::pair<Candidate, Rule>> retry;     // rolled back; again when the queues run dry
+    std::vector<mesh4d::VertexId> removed;            // of near, by the current operation
+    std::mutex queue_mutex;                           // the queues, which thieves also take from
+    std::array<BlockStack<Candidate>, kNone> queues;  // one stack per rule
+    std::vector<std::pair<Candidate, Rule>> retry;    // rolled back; again when the queues run dry
     std::uint64_t operations = 0;
     unsigned consecutive_rollbacks = 0;
     // Counters, read by the reporting thread while this one writes them.

@@ -126,9 +126,8 @@ bool Refiner::steal(Worker& w, Shared& shared, Rule only) {
       for (int r = 0; r < kNone; ++r) {
         if (only != kNone && r != only) continue;
         auto& q = victim.queues[r];
-        const std::size_t m = (q.size() + 1) / 2;
-        taken[r].assign(q.begin(), q.begin() + static_cast<std::ptrdiff_t>(m));
-        q.erase(q.begin(), q.begin() + static_cast<std::ptrdiff_t>(m));
+        q.take_bottom((q.size() + 1) / 2, taken[r]);
+        const std::size_t m = taken[r].size();
         victim.publish_length(r);
         total += m;
       }
@@ -136,7 +135,7 @@ bool Refiner::steal(Worker& w, Shared& shared, Rule only) {
     if (total == 0) continue;
     std::lock_guard lock(w.queue_mutex);
     for (int r = 0; r < kNone; ++r) {
-      w.queues[r].insert(w.queues[r].end(), taken[r].begin(), taken[r].end());
+      w.queues[r].append(taken[r].begin(), taken[r].end());
       w.publish_length(r);
     }
     return true;
@@ -162,7 +161,7 @@ void Refiner::distribute_work(unsigned threads) {
   std::array<std::vector<Candidate>, kNone> pool;
   for (auto& w : workers_) {
     for (int r = 0; r < kNone; ++r) {
-      pool[r].insert(pool[r].end(), w->queues[r].begin(), w->queues[r].end());
+      w->queues[r].copy_to(pool[r]);
       w->queues[r].clear();
     }
     for (const auto& [k, r] : w->retry) pool[r].push_back(k);
