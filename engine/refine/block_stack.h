@@ -5,32 +5,30 @@
 // and a doubling vector copied all of them at each growth, held the old and the new buffer at
 // once and faulted in every new buffer's pages again: 1–3 % of the hypersphere's time
 // (docs/performance.md, session 16). Blocks never move and are kept when the stack shrinks, so a
-// push costs no copy and the pages are faulted in once, at the stack's peak.
+// push costs no copy and the pages are faulted in once, at the stack's peak. The blocks are a
+// ChunkedArray's (the triangulation's own storage); this adds the count and the stack's moves.
 #pragma once
 
 #include <cstddef>
-#include <memory>
-#include <type_traits>
 #include <vector>
+
+#include "delaunay/chunked_array.h"
 
 namespace mesh4d::refine {
 
 template <class T>
 class BlockStack {
-  static_assert(std::is_trivially_copyable_v<T>, "BlockStack holds plain data only");
-
  public:
   bool empty() const { return size_ == 0; }
   std::size_t size() const { return size_; }
 
-  T& operator[](std::size_t i) { return blocks_[i >> kShift][i & kMask]; }
-  const T& operator[](std::size_t i) const { return blocks_[i >> kShift][i & kMask]; }
+  T& operator[](std::size_t i) { return items_[i]; }
+  const T& operator[](std::size_t i) const { return items_[i]; }
   T& back() { return (*this)[size_ - 1]; }
 
   void push_back(const T& value) {
-    if (size_ == blocks_.size() << kShift)
-      blocks_.push_back(std::make_unique_for_overwrite<T[]>(std::size_t{1} << kShift));
-    (*this)[size_++] = value;
+    items_.ensure(size_ + 1);
+    items_[size_++] = value;
   }
   void pop_back() { --size_; }
   /// Keeps the blocks: the next pushes reuse their pages.
@@ -58,10 +56,8 @@ class BlockStack {
   }
 
  private:
-  // 4096 elements a block: 96 KiB of candidates, small beside a queue's peak.
-  static constexpr unsigned kShift = 12;
-  static constexpr std::size_t kMask = (std::size_t{1} << kShift) - 1;
-  std::vector<std::unique_ptr<T[]>> blocks_;
+  // Blocks of 4096 elements: 96 KiB of candidates, small beside a queue's peak.
+  delaunay::ChunkedArray<T> items_{12};
   std::size_t size_ = 0;
 };
 
