@@ -62,9 +62,36 @@ constexpr int kLanes = 4;
         for (int j = 0; j < 4; ++j) q += (p[i][j][l] - p[k][j][l]) * (p[i][j][l] - p[k][j][l]);
         e2[l] = std::min(e2[l], q);
       }
+  // The center's error bound (forward error analysis, u = 2⁻⁵³): the entries of A carry one
+  // rounding, those of b at most six; each of the 24 terms of det(A) takes at most 14 roundings
+  // in all (4 in its entries, 10 in the arithmetic), each of the 24 terms of a numerator (three
+  // entries of A and one of b) at most 18.
+  // So |det − exact| ≤ eD = 15u·1.01·24·BA⁴ and |numerator − exact| ≤ eN = 18u·1.01·24·BA³·Bb
+  // (BA, Bb: the largest |entry| of A and of b), and the solution's coordinate j is off by at
+  // most (|x_j|·eD + eN)/(|det| − eD) plus its division's and the center's sum's roundings.
+  // Over four coordinates, twice the largest. Constants rounded up.
+  constexpr double u = 0x1p-53;
+  double err[kLanes];
+  for (int l = 0; l < kLanes; ++l) {
+    double ba = 0, bb = 0, xm = 0, cm = 0;
+    for (int i = 0; i < 4; ++i) {
+      bb = std::max(bb, b[i][l]);
+      for (int j = 0; j < 4; ++j) ba = std::max(ba, std::abs(a[i][j][l]));
+    }
+    for (int j = 0; j < 4; ++j) {
+      xm = std::max(xm, std::abs(x[j][l]));
+      cm = std::max(cm, std::abs(c[j][l]));
+    }
+    const double ba2 = ba * ba;
+    const double e_det = 364 * u * (ba2 * ba2), e_num = 437 * u * (ba2 * ba * bb);
+    const double margin = std::abs(det[l]) - e_det;
+    err[l] = 2 * ((xm * e_det + e_num) / margin * (1 + 1e-10) + 4 * u * xm + 2 * u * cm);
+  }
   const double inf = std::numeric_limits<double>::infinity();
   for (int l = 0; l < kLanes; ++l) {
+    out[l].center_error = err[l] >= 0 && err[l] < inf ? err[l] : inf;
     if (det[l] == 0 || !std::isfinite(det[l])) {
+      out[l].center_error = inf;
       out[l].center = {inf, inf, inf, inf};
       out[l].radius = inf;
     } else {

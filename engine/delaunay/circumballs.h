@@ -15,6 +15,12 @@ struct Circumball {
   Point4 center;  // every coordinate infinite for a flat pentatope, as circumcenter()
   double radius;  // circumradius(s, center)
   double shortest_edge;
+  /// A bound on the distance from `center` to the exact circumcenter, from the roundings of
+  /// the arithmetic above (infinite for a flat pentatope, or one too close to flat for the
+  /// bound to hold); |radius − exact circumradius| is within it plus 11 units of the last
+  /// place of radius. What lets an in-sphere question be decided from the ball alone
+  /// (conflict_filter.h).
+  double center_error;
 };
 
 /// vertices[l][k]: vertex k of pentatope l. With `portable`, the code for processors without

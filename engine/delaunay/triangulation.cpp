@@ -111,6 +111,8 @@ void Triangulation::conflicts(const CellId* cells, int count, const Point4& p, V
   const Point4* vertices[4][5];
   int index[4];
   int lanes = 0;
+  std::int8_t decided[5] = {};
+  if (filter_) filter_->decide(cells, count, p, decided);
   const auto flush = [&] {
     if (lanes == 1) {  // alone: the scalar filter is faster
       conflict[index[0]] = in_conflict(cells[index[0]], p, pid);
@@ -128,6 +130,10 @@ void Triangulation::conflicts(const CellId* cells, int count, const Point4& p, V
     lanes = 0;
   };
   for (int k = 0; k < count; ++k) {
+    if (decided[k] != 0) {
+      conflict[k] = decided[k] > 0;
+      continue;
+    }
     const Pentatope& cell = store_.cell(cells[k]);
     if (store_.index_of(cells[k], kInfiniteVertex) >= 0) {
       conflict[k] = in_conflict(cells[k], p, pid);
@@ -215,6 +221,7 @@ bool Triangulation::find_cavity(const Point4& p, VertexId pid, CellId start, Cav
           cavity.cells.push_back(d);
           // Its neighbors are tested soon: start their loads now (memory latency dominates).
           for (CellId far : neighbor.n) __builtin_prefetch(&store_.cell(far));
+          if (filter_) filter_->prefetch(neighbor.n, 5);
           continue;
         }
         neighbor.mark = rejected;

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "delaunay/cell_guard.h"
+#include "delaunay/conflict_filter.h"
 #include "delaunay/pentatope_store.h"
 #include "delaunay/ridge_table.h"
 
@@ -81,6 +82,12 @@ class Triangulation {
   /// (nothing changed), `refused` where remove() returns false.
   RemoveResult remove(VertexId v, std::vector<CellId>* created, Workspace& ws, CellGuard* guard);
 
+  /// Lets `filter` answer the in-sphere questions of cavity searches first (nullptr: none). Its
+  /// owner keeps it current for every live pentatope a search can reach: it is set once every
+  /// pentatope has its ball, and each operation's new pentatopes get theirs before any other
+  /// search reaches them.
+  void set_conflict_filter(const ConflictFilter* filter) { filter_ = filter; }
+
   // --- The three steps of an insertion ------------------------------------------------------
 
   /// A pentatope that contains p in its closure (finite), or an infinite pentatope whose hull
@@ -92,8 +99,9 @@ class Triangulation {
 
   /// Whether the pentatope's (perturbed) circumsphere contains the point p with id pid.
   bool in_conflict(CellId c, const Point4& p, VertexId pid) const;
-  /// in_conflict() of `count` (at most 5) pentatopes into conflict[0..count), the finite ones
-  /// four at a time through the batched in-sphere filter: the same answers.
+  /// in_conflict() of `count` (at most 5) pentatopes into conflict[0..count): the conflict
+  /// filter's certain answers first, if one is set, then the finite ones four at a time through
+  /// the batched in-sphere filter: the same answers.
   void conflicts(const CellId* cells, int count, const Point4& p, VertexId pid,
                  bool* conflict) const;
 
@@ -175,6 +183,7 @@ class Triangulation {
   std::vector<VertexId> pending_;  // vertices waiting for the first simplex
   // Visit stamps: from one counter shared by all threads, so that no two searches share one.
   std::atomic<std::uint32_t> stamp_{0};
+  const ConflictFilter* filter_ = nullptr;
   mutable Workspace own_;  // the single-threaded operations' (locate's walk state is mutable)
 };
 

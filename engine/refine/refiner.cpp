@@ -155,6 +155,9 @@ void Refiner::update_infos(const std::vector<CellId>& cells) {
       info.center = balls[l].center;
       if (!std::isfinite(info.center[0])) continue;  // flat: not finite
       info.radius = balls[l].radius;
+      // Rounded up to a float: a conversion moves a normal value by at most 2⁻²⁴ of it.
+      const double e = balls[l].center_error;
+      info.center_error = e < 1e-30 ? 1e-30f : static_cast<float>(e * (1 + 0x1p-20));
       info.long_radius = info.radius / balls[l].shortest_edge >= params_.radius_edge_bound;
       info.label_code = 0;
       info.surface_known = false;
@@ -171,6 +174,15 @@ void Refiner::update_infos(const std::vector<CellId>& cells) {
     if (++n == 4) measure();
   }
   if (n > 0) measure();
+}
+
+void Refiner::decide(const CellId* cells, int count, const Point4& p, std::int8_t* verdict) const {
+  for (int k = 0; k < count; ++k) {
+    const CellInfo& info = info_[cells[k]];
+    verdict[k] = info.finite ? static_cast<std::int8_t>(delaunay::ball_verdict(
+                                   info.center, info.radius, info.center_error, p))
+                             : 0;
+  }
 }
 
 void Refiner::admit(Worker& w, const std::vector<CellId>& cells) {
@@ -582,6 +594,8 @@ RefineResult Refiner::run(ProgressSink* sink) {
   for (CellId c = 0; c < tri_.store().cell_slots(); ++c)
     if (tri_.store().is_live(c)) fresh.push_back(c);
   admit(fresh);
+  // From here every live pentatope has its circumball.
+  tri_.set_conflict_filter(this);
   drain(sink);
   // The rules' counts, also for a job that refines faster than the report interval.
   report(sink, Phase::refining, true);

@@ -3,7 +3,9 @@
 //
 // All five rules (R1 to R5, R3 first by default) and an interior sizing bound; picking regions
 // for R4 and R5 measure the cavity of each trial point before choosing. Each pentatope's
-// circumball is computed once, when it is made, and its label once, when first read (CellInfo).
+// circumball is computed once, when it is made, and its label once, when first read (CellInfo);
+// with a bound on its rounding, the ball also answers most in-sphere questions of the cavity
+// searches (delaunay/conflict_filter.h).
 // Where labels meet, the paper's guarantee (for one label) does not hold: a bounded pinch repair
 // (refiner_junctions.cpp) samples ∂Ω where a region's boundary is not a manifold, and what it
 // leaves is closed by moving a few pentatopes whose vertices all lie on ∂Ω to a neighboring label
@@ -55,7 +57,7 @@ struct RefineResult {
   double repair_seconds = 0;
 };
 
-class Refiner {
+class Refiner final : private delaunay::ConflictFilter {
  public:
   /// Validates the parameters (ParamError). The oracle must outlive the refiner.
   Refiner(const domain::SurfaceOracle& oracle, const RefineParams& params);
@@ -148,6 +150,8 @@ class Refiner {
     double radius = 0;
     double surface_lower = 0;         // a lower bound on the distance from center to ∂Ω
     std::uint32_t surface_voxel = 0;  // where the cfp of center starts (PointFacts)
+    // Circumball::center_error rounded up: the cavity searches' in-sphere filter (decide()).
+    float center_error = 0;
     // The label at the center plus one, 0 until asked (label_of): most new pentatopes die before
     // anything reads it. Atomic (std::atomic_ref) where read: a thread classifying a neighbor
     // may compute it.
@@ -180,6 +184,14 @@ class Refiner {
   void admit(const std::vector<delaunay::CellId>& cells) { admit(*workers_[0], cells); }
   // Their CellInfo (not yet the label: label_of()).
   void update_infos(const std::vector<delaunay::CellId>& cells);
+  // ConflictFilter: the in-sphere questions of cavity searches, answered from the infos'
+  // circumballs where rounding cannot change the answer. Set once every pentatope has its info
+  // (run()); each operation admits its new pentatopes before any other search can reach them.
+  void decide(const delaunay::CellId* cells, int count, const Point4& p,
+              std::int8_t* verdict) const override;
+  void prefetch(const delaunay::CellId* cells, int count) const override {
+    for (int k = 0; k < count; ++k) __builtin_prefetch(&info_[cells[k]]);
+  }
   void enqueue(Worker& w, delaunay::CellId c);
   bool has_restricted_non_feature_facet(delaunay::CellId c) const;
   Rule quick_rule(delaunay::CellId c) const;  // a cheap priority guess, confirmed when popped
