@@ -129,10 +129,12 @@ class PentatopeStore {
   }
   /// Slot i with c.n[i] == neighbor, or -1.
   int neighbor_index(CellId c, CellId neighbor) const {
+    // Without branches: which slot matches is as good as random (a mispredicted branch in
+    // every new pentatope's linking).
     const Pentatope& cell = cells_[c];
-    for (int i = 0; i < 5; ++i)
-      if (cell.n[i] == neighbor) return i;
-    return -1;
+    int slot = -1;
+    for (int i = 4; i >= 0; --i) slot = cell.n[i] == neighbor ? i : slot;
+    return slot;
   }
 
   /// Slots handed out (live, free, or reserved by an allocator), all initialised.
