@@ -69,7 +69,9 @@ constexpr int kLanes = 4;
   // So |det − exact| ≤ eD = 15u·1.01·24·BA⁴ and |numerator − exact| ≤ eN = 18u·1.01·24·BA³·Bb
   // (BA, Bb: the largest |entry| of A and of b), and the solution's coordinate j is off by at
   // most (|x_j|·eD + eN)/(|det| − eD) plus its division's and the center's sum's roundings.
-  // Over four coordinates, twice the largest. Constants rounded up.
+  // Over four coordinates, twice the largest. Constants rounded up. Entries below 1e-50 could
+  // take products into the subnormal range, where roundings are no longer relative: no bound
+  // there (never on images in millimeters).
   constexpr double u = 0x1p-53;
   double err[kLanes];
   for (int l = 0; l < kLanes; ++l) {
@@ -86,6 +88,7 @@ constexpr int kLanes = 4;
     const double e_det = 364 * u * (ba2 * ba2), e_num = 437 * u * (ba2 * ba * bb);
     const double margin = std::abs(det[l]) - e_det;
     err[l] = 2 * ((xm * e_det + e_num) / margin * (1 + 1e-10) + 4 * u * xm + 2 * u * cm);
+    if (!(ba >= 1e-50)) err[l] = std::numeric_limits<double>::infinity();
   }
   const double inf = std::numeric_limits<double>::infinity();
   for (int l = 0; l < kLanes; ++l) {

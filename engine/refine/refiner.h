@@ -164,6 +164,7 @@ class Refiner final : private delaunay::ConflictFilter {
     // (six in ten pentatopes die before, on the ventricle and the patients).
     bool surface_known = false;
   };
+  static_assert(sizeof(CellInfo) == 64, "one cache line per pentatope's info");
 
   delaunay::Simplex4 simplex_of(delaunay::CellId c) const {
     delaunay::Simplex4 s;

@@ -76,6 +76,13 @@ std::vector<Simplex4> test_simplices() {
       for (double& x : p) x = static_cast<double>(rng() % 3);
     out.push_back(s);
   }
+  // Down where products would be subnormal: no bound claimed (checked below).
+  for (int i = 0; i < 4; ++i) {
+    Simplex4 s;
+    for (auto& p : s)
+      for (double& x : p) x = 1e-60 * unit(rng);
+    out.push_back(s);
+  }
   return out;
 }
 
@@ -104,6 +111,9 @@ TEST(ConflictFilter, CenterErrorBoundsTheExactCircumcenterAndRadius) {
     if (!solid) {
       EXPECT_TRUE(std::isinf(b.center_error)) << "flat simplex " << i;
       continue;
+    }
+    if (i + 4 >= simplices.size()) {
+      EXPECT_TRUE(std::isinf(b.center_error)) << "subnormal range, simplex " << i;
     }
     if (!std::isfinite(b.center_error)) continue;
     ++bounded;
