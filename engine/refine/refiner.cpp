@@ -588,6 +588,7 @@ void Refiner::drain_sequential(ProgressSink* sink) {
 
 RefineResult Refiner::run(ProgressSink* sink) {
   start_ = last_report_ = std::chrono::steady_clock::now();
+  tri_.set_conflict_filter(nullptr);  // the box's and junctions' pentatopes have no info yet
   insert_box();
   insert_junctions();
   std::vector<CellId> fresh;
