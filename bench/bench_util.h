@@ -4,11 +4,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <optional>
 #include <string>
 #include <type_traits>
+
+#include "mesh/mesh4.h"
 
 namespace mesh4d::bench {
 
@@ -20,6 +23,33 @@ inline long status_kb(const char* field) {
   while (std::getline(in, line))
     if (line.compare(0, n, field) == 0) return std::stol(line.substr(n + 1));
   return 0;
+}
+
+/// A fingerprint of everything a mesh holds: its vertices (coordinates to the bit, kinds), its
+/// pentatopes and labels, and its boundary tetrahedra, in their order (64-bit FNV-1a). Two builds
+/// that give the same fingerprint on a row gave the same mesh; scripts/mesh_hashes lists them.
+inline std::uint64_t mesh_fingerprint(const mesh::Mesh4& m) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  const auto mix = [&h](const void* data, std::size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 0x100000001b3ull;
+  };
+  const auto mix_all = [&mix](const auto& items) {
+    const std::uint64_t n = items.size();
+    mix(&n, sizeof n);
+    if (n > 0) mix(items.data(), n * sizeof items[0]);
+  };
+  mix_all(m.vertices);
+  mix_all(m.vertex_kinds);
+  mix_all(m.pentatopes);
+  mix_all(m.labels);
+  for (const mesh::BoundaryTetrahedron& b : m.boundary) {
+    mix(b.vertices.data(), sizeof b.vertices);
+    mix(&b.pentatope, sizeof b.pentatope);
+    mix(&b.inner, sizeof b.inner);
+    mix(&b.outer, sizeof b.outer);
+  }
+  return h;
 }
 
 /// Runs `work` in a forked child, so that its peak memory is its own, and returns its result

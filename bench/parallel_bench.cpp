@@ -28,7 +28,7 @@ using namespace mesh4d;
 namespace {
 
 struct Run {
-  std::uint64_t pentatopes, rollbacks, insertions[5], removals;
+  std::uint64_t pentatopes, rollbacks, insertions[5], removals, fingerprint;
   double seconds, rules_seconds, contention, idle, rho_max, tau_min;
   bool valid;
 };
@@ -80,6 +80,7 @@ int main(int argc, char** argv) {
     std::vector<double> seconds, rules, contention, idle, pentatopes, rollbacks, rho, tau, removals,
         speedup;
     std::array<std::vector<double>, 5> insertions;
+    std::vector<std::uint64_t> fingerprints;  // one per seed, in seed order
     bool valid = true;
   };
   std::vector<Series> series(threads.size());
@@ -102,6 +103,7 @@ int main(int argc, char** argv) {
                    {r.stats.insertions[0], r.stats.insertions[1], r.stats.insertions[2],
                     r.stats.insertions[3], r.stats.insertions[4]},
                    r.stats.removals[4],
+                   bench::mesh_fingerprint(r.mesh),
                    r.stats.elapsed_seconds,
                    r.rules_seconds,
                    r.contention_seconds,
@@ -112,6 +114,7 @@ int main(int argc, char** argv) {
       });
       if (!run) {
         s.valid = false;
+        s.fingerprints.push_back(0);  // keeps the list in seed order
         continue;
       }
       if (i == 0) sequential = run->seconds;
@@ -127,6 +130,7 @@ int main(int argc, char** argv) {
       s.rho.push_back(run->rho_max);
       s.tau.push_back(run->tau_min);
       s.valid &= run->valid;
+      s.fingerprints.push_back(run->fingerprint);
     }
   }
   double reference = 0;
@@ -149,4 +153,12 @@ int main(int argc, char** argv) {
         median(s.removals), *std::max_element(s.rho.begin(), s.rho.end()),
         *std::min_element(s.tau.begin(), s.tau.end()), s.valid ? "yes" : "NO");
   }
+  // Each run's mesh (bench::mesh_fingerprint): with one thread, a seed fixes the mesh, so two
+  // builds that refine alike print the same lines (scripts/mesh_hashes compares them).
+  std::printf("\nMesh fingerprints\n| threads | seed | fingerprint |\n|---|---|---|\n");
+  for (std::size_t i = 0; i < threads.size(); ++i)
+    for (std::size_t k = 0; k < series[i].fingerprints.size(); ++k)
+      std::printf("| %u | %llu | %016llx |\n", threads[i],
+                  static_cast<unsigned long long>(seed + k),
+                  static_cast<unsigned long long>(series[i].fingerprints[k]));
 }
