@@ -11,7 +11,7 @@
 #include <atomic>
 #include <cstdint>
 
-#include "delaunay/chunked_array.h"
+#include "support/chunked_array.h"
 #include "delaunay/point4.h"
 
 namespace mesh4d::delaunay {
@@ -154,10 +154,10 @@ class PentatopeStore {
  private:
   void refill(CellAllocator& a);  // a fresh range of dead slots
 
-  ChunkedArray<Pentatope> cells_;
-  ChunkedArray<Vertex> vertices_;
-  ChunkedArray<Point4> points_;
-  ChunkedArray<std::uint32_t> owners_;
+  support::ChunkedArray<Pentatope> cells_;
+  support::ChunkedArray<Vertex> vertices_;
+  support::ChunkedArray<Point4> points_;
+  support::ChunkedArray<std::uint32_t> owners_;
   std::atomic<std::size_t> cell_slots_{0};
   std::atomic<std::size_t> vertex_slots_{0};
   CellAllocator own_;

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "delaunay/geometry.h"
-#include "delaunay/parallel_parts.h"
+#include "support/parallel_parts.h"
 
 namespace mesh4d::mesh {
 namespace {
@@ -81,8 +81,8 @@ MeshStats compute_stats(const Mesh4& mesh, unsigned threads) {
   const unsigned parts = static_cast<unsigned>(
       std::clamp<std::size_t>(mesh.pentatopes.size() / kMinShare, 1, std::max(threads, 1u)));
   std::vector<Part> measured(parts);
-  delaunay::run_parts(parts, [&](unsigned p) {
-    const auto [begin, end] = delaunay::part_range(mesh.pentatopes.size(), p, parts);
+  support::run_parts(parts, [&](unsigned p) {
+    const auto [begin, end] = support::part_range(mesh.pentatopes.size(), p, parts);
     measure(mesh, begin, end, measured[p]);
   });
   // Merged in part order: the result depends on the thread count only in the last bits of the

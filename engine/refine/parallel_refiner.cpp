@@ -1,8 +1,8 @@
 // Parallel refinement: the rules applied by worker threads on one shared triangulation
-// (ALGORITHM.md, "Parallel refinement"; the paper's Section 7.2).
+// (docs/algorithm.md, "Parallel refinement"; the paper's Section 7.2).
 //
 // Each worker pops a bad pentatope from its own queues and runs the same operation as the
-// sequential refiner (Refiner::process), but under vertex locks: the pentatope's vertices
+// sequential refiner (Operation::process), but under vertex locks: the pentatope's vertices
 // first, then every pentatope that a walk, a cavity, a picking-region trial or an R5 removal
 // reads (delaunay/cell_guard.h). All locks are taken before the first write; a lock held by
 // another thread rolls the operation back (nothing was written) and the pentatope is tried
@@ -16,17 +16,19 @@
 // Balance: a worker without work steals the older half of another's queues; the phase ends
 // when every worker is idle at once (a count that a thief leaves before it looks, so that a
 // stolen candidate is never in flight while the count is full).
+#include "refine/parallel_refiner.h"
+
 #include <algorithm>
 #include <exception>
 #include <thread>
 
-#include "delaunay/parallel_parts.h"
-#include "refine/refiner.h"
+#include "support/parallel_parts.h"
 
 namespace mesh4d::refine {
 
 using delaunay::CellId;
 using delaunay::VertexKind;
+using mesh4d::VertexId;
 
 namespace {
 
@@ -51,7 +53,40 @@ void back_off(unsigned& spins) {
 
 }  // namespace
 
-struct Refiner::Shared {
+struct ParallelRefiner::Impl {
+  Impl(RefinementState& state, Operation& operation, Workers& workers, ProgressMeter& meter)
+      : state_(state),
+        operation_(operation),
+        workers_(workers),
+        meter_(meter),
+        order_(priority_order(state.params.rule_order)) {}
+
+  struct Shared;
+  struct Lane;
+  void drain(ProgressSink* sink);
+  std::size_t insert_points(const std::vector<RepairPoint>& points, double min_spacing);
+  // A parallel phase's frame: storage and workers ready, each worker on its own workspace and
+  // locks; then, after the threads joined, their pentatopes merged back for serial work.
+  void enter_parallel(unsigned threads);
+  void leave_parallel(unsigned threads);
+  // One thread of a parallel phase.
+  void work(Worker& w, Shared& shared, ProgressSink* sink);
+  bool pop(Worker& w, Shared& shared, Candidate* k, Rule* rule);
+  // Takes the older half of another worker's queues (of one rule only, unless Rule::none).
+  bool steal(Worker& w, Shared& shared, Rule only = Rule::none);
+  bool queued_anywhere(const Shared& shared, Rule rule) const;  // in any worker's queues
+  bool higher_in_flight(const Shared& shared) const;  // an R1–R4 operation under way anywhere
+  void distribute_work(unsigned threads);             // all queued work split among the workers
+
+  RefinementState& state_;
+  Operation& operation_;
+  Workers& workers_;
+  ProgressMeter& meter_;
+  const std::array<Rule, kQueuedRules> order_;
+  std::vector<std::unique_ptr<Lane>> lanes_;  // by worker index
+};
+
+struct ParallelRefiner::Impl::Shared {
   explicit Shared(unsigned n) : threads(n) {}
   const unsigned threads;
   // Read by every worker at every step and written rarely, so each on a line of its own: a
@@ -75,56 +110,75 @@ struct Refiner::Shared {
   }
 };
 
-bool Refiner::pop(Worker& w, Shared& shared, Candidate* k, Rule* rule) {
-  const std::array<Rule, 6> order = params_.rule_order == RuleOrder::r3_first
-                                        ? std::array<Rule, 6>{kR3, kR1, kR2, kR4, kSizing, kR5}
-                                        : std::array<Rule, 6>{kR1, kR2, kR3, kR4, kSizing, kR5};
+// The parallel refiner's own part of a worker: what only the flow between threads needs.
+struct ParallelRefiner::Impl::Lane {
+  std::vector<std::pair<Candidate, Rule>> retry;  // rolled back; again when the queues run dry
+  std::uint64_t operations = 0;
+  unsigned consecutive_rollbacks = 0;
+  // Whether it runs an operation of a rule other than R5 (the others' R5 gate), on a cache line
+  // of its own.
+  alignas(64) std::atomic<bool> higher_in_flight{false};
+};
+
+ParallelRefiner::ParallelRefiner(RefinementState& state, Operation& operation, Workers& workers,
+                                 ProgressMeter& meter)
+    : impl_(std::make_unique<Impl>(state, operation, workers, meter)) {}
+ParallelRefiner::~ParallelRefiner() = default;
+void ParallelRefiner::drain(ProgressSink* sink) {
+  impl_->drain(sink);
+}
+std::size_t ParallelRefiner::insert_points(const std::vector<RepairPoint>& points,
+                                           double min_spacing) {
+  return impl_->insert_points(points, min_spacing);
+}
+
+bool ParallelRefiner::Impl::pop(Worker& w, Shared& shared, Candidate* k, Rule* rule) {
   for (int attempt = 0; attempt < 2; ++attempt) {
     std::unique_lock lock(w.queue_mutex);
-    Rule own = kNone;
-    for (Rule r : order)
-      if (!w.queues[r].empty()) {
+    Rule own = Rule::none;
+    for (Rule r : order_)
+      if (!w.queues[index_of(r)].empty()) {
         own = r;
         break;
       }
     // The rules' priority is global in the sequential refiner: R5 runs only once no other rule
     // applies anywhere. Its free-vertex removals next to another worker's R3 insertions undo
     // them and are undone in turn, so a worker left with R5 work takes others' work first.
-    if (own == kR5 && attempt == 0) {
-      Rule higher = kNone;
-      for (Rule r : order) {
-        if (r == kR5) break;
+    if (own == Rule::R5 && attempt == 0) {
+      Rule higher = Rule::none;
+      for (Rule r : order_) {
+        if (r == Rule::R5) break;
         if (queued_anywhere(shared, r)) {
           higher = r;
           break;
         }
       }
-      if (higher != kNone) {
+      if (higher != Rule::none) {
         lock.unlock();
         steal(w, shared, higher);
         continue;
       }
     }
-    if (own == kNone) return false;
-    *k = w.queues[own].back();
-    w.queues[own].pop_back();
-    w.publish_length(own);
+    if (own == Rule::none) return false;
+    *k = w.queues[index_of(own)].back();
+    w.queues[index_of(own)].pop_back();
+    w.publish_length(index_of(own));
     *rule = own;
     return true;
   }
   return false;
 }
 
-bool Refiner::steal(Worker& w, Shared& shared, Rule only) {
+bool ParallelRefiner::Impl::steal(Worker& w, Shared& shared, Rule only) {
   // The older half of each queue: far from where the victim works now, so fewer conflicts.
   for (unsigned i = 1; i < shared.threads; ++i) {
-    Worker& victim = *workers_[(w.index + i) % shared.threads];
-    std::array<std::vector<Candidate>, kNone> taken;
+    Worker& victim = workers_[(w.index + i) % shared.threads];
+    std::array<std::vector<Candidate>, kQueuedRules> taken;
     std::size_t total = 0;
     {
       std::lock_guard lock(victim.queue_mutex);
-      for (int r = 0; r < kNone; ++r) {
-        if (only != kNone && r != only) continue;
+      for (int r = 0; r < kQueuedRules; ++r) {
+        if (only != Rule::none && r != index_of(only)) continue;
         auto& q = victim.queues[r];
         q.take_bottom((q.size() + 1) / 2, taken[r]);
         const std::size_t m = taken[r].size();
@@ -134,7 +188,7 @@ bool Refiner::steal(Worker& w, Shared& shared, Rule only) {
     }
     if (total == 0) continue;
     std::lock_guard lock(w.queue_mutex);
-    for (int r = 0; r < kNone; ++r) {
+    for (int r = 0; r < kQueuedRules; ++r) {
       w.queues[r].append(taken[r].begin(), taken[r].end());
       w.publish_length(r);
     }
@@ -143,42 +197,46 @@ bool Refiner::steal(Worker& w, Shared& shared, Rule only) {
   return false;
 }
 
-bool Refiner::queued_anywhere(const Shared& shared, Rule rule) const {
+bool ParallelRefiner::Impl::queued_anywhere(const Shared& shared, Rule rule) const {
   for (unsigned t = 0; t < shared.threads; ++t)
-    if (workers_[t]->queued[rule].load(std::memory_order_relaxed) > 0) return true;
+    if (workers_[t].queued[index_of(rule)].load(std::memory_order_relaxed) > 0) return true;
   return false;
 }
 
-bool Refiner::higher_in_flight(const Shared& shared) const {
+bool ParallelRefiner::Impl::higher_in_flight(const Shared& shared) const {
   for (unsigned t = 0; t < shared.threads; ++t)
-    if (workers_[t]->higher_in_flight.load(std::memory_order_acquire)) return true;
+    if (lanes_[t]->higher_in_flight.load(std::memory_order_acquire)) return true;
   return false;
 }
 
-void Refiner::distribute_work(unsigned threads) {
+void ParallelRefiner::Impl::distribute_work(unsigned threads) {
   // Everything queued (and rolled back) goes into one pool per rule, then each worker gets a
   // contiguous share: neighbors in the queue are mostly neighbors in space.
-  std::array<std::vector<Candidate>, kNone> pool;
-  for (auto& w : workers_) {
-    for (int r = 0; r < kNone; ++r) {
-      w->queues[r].copy_to(pool[r]);
-      w->queues[r].clear();
+  std::array<std::vector<Candidate>, kQueuedRules> pool;
+  for (unsigned t = 0; t < workers_.size(); ++t) {
+    Worker& w = workers_[t];
+    for (int r = 0; r < kQueuedRules; ++r) {
+      w.queues[r].copy_to(pool[r]);
+      w.queues[r].clear();
     }
-    for (const auto& [k, r] : w->retry) pool[r].push_back(k);
-    w->retry.clear();
+    if (t < lanes_.size()) {
+      for (const auto& [k, r] : lanes_[t]->retry) pool[index_of(r)].push_back(k);
+      lanes_[t]->retry.clear();
+    }
   }
-  for (int r = 0; r < kNone; ++r) {
+  for (int r = 0; r < kQueuedRules; ++r) {
     const std::size_t n = pool[r].size();
     for (unsigned t = 0; t < threads; ++t) {
       const auto begin = pool[r].begin() + static_cast<std::ptrdiff_t>(n * t / threads);
       const auto end = pool[r].begin() + static_cast<std::ptrdiff_t>(n * (t + 1) / threads);
-      workers_[t]->queues[r].assign(begin, end);
-      workers_[t]->publish_length(r);
+      workers_[t].queues[r].assign(begin, end);
+      workers_[t].publish_length(r);
     }
   }
 }
 
-void Refiner::work(Worker& w, Shared& shared, ProgressSink* sink) {
+void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) {
+  Lane& lane = *lanes_[w.index];
   const int me = static_cast<int>(w.index);
   // Worker 0 runs on the caller's thread: it alone talks to the sink.
   const auto tick = [&] {
@@ -187,7 +245,7 @@ void Refiner::work(Worker& w, Shared& shared, ProgressSink* sink) {
       shared.fail(std::make_exception_ptr(Cancelled()));
       return;
     }
-    report(sink, Phase::refining, false);
+    meter_.report(sink, Phase::refining, false);
   };
   const auto release_priority = [&] {
     // Others only take a free token: a plain store once the load saw it ours. (A
@@ -218,11 +276,11 @@ void Refiner::work(Worker& w, Shared& shared, ProgressSink* sink) {
         // Fresh work first (another's queue), then what rolled back: retrying at once would
         // mostly meet the same locks again.
         if (steal(w, shared)) continue;
-        if (!w.retry.empty()) {
+        if (!lane.retry.empty()) {
           std::lock_guard lock(w.queue_mutex);
-          for (const auto& [candidate, r] : w.retry) w.queues[r].push_back(candidate);
-          for (int r = 0; r < kNone; ++r) w.publish_length(r);
-          w.retry.clear();
+          for (const auto& [candidate, r] : lane.retry) w.queues[index_of(r)].push_back(candidate);
+          for (int r = 0; r < kQueuedRules; ++r) w.publish_length(r);
+          lane.retry.clear();
           continue;
         }
         release_priority();  // nothing to run alone
@@ -247,21 +305,21 @@ void Refiner::work(Worker& w, Shared& shared, ProgressSink* sink) {
       // Most candidates died in later operations (72 % on the ventricle at δ = 3), often in
       // another worker's region: a lock-free look at the record drops them before process()
       // locks their vertices (fewer rollbacks with 8 and 16 threads; no change in time seen).
-      if (!still_valid(k)) continue;
-      if (tri_.stamps_running_low()) {  // cleared between phases, by one thread
+      if (!state_.still_valid(k)) continue;
+      if (state_.tri.stamps_running_low()) {  // cleared between phases, by one thread
         std::lock_guard lock(w.queue_mutex);
-        w.queues[rule].push_back(k);
-        w.publish_length(rule);
+        w.queues[index_of(rule)].push_back(k);
+        w.publish_length(index_of(rule));
         shared.stop.store(true, std::memory_order_release);
         break;
       }
       // R5 removes free vertices near its point: beside another worker's R3 insertion it undoes
       // work that is then redone (more pentatopes, more rollbacks). It waits, queued, instead.
-      if (rule == kR5 && higher_in_flight(shared)) {
+      if (rule == Rule::R5 && higher_in_flight(shared)) {
         {
           std::lock_guard lock(w.queue_mutex);
-          w.queues[rule].push_back(k);
-          w.publish_length(rule);
+          w.queues[index_of(rule)].push_back(k);
+          w.publish_length(index_of(rule));
         }
         const auto t0 = Clock::now();
         unsigned spins = 0;
@@ -272,27 +330,27 @@ void Refiner::work(Worker& w, Shared& shared, ProgressSink* sink) {
         w.contention_ns.fetch_add(nanoseconds_since(t0), std::memory_order_relaxed);
         continue;
       }
-      if (rule != kR5) w.higher_in_flight.store(true, std::memory_order_release);
-      if (w.index == 0 && ++w.operations % kPollEvery == 0) tick();
+      if (rule != Rule::R5) lane.higher_in_flight.store(true, std::memory_order_release);
+      if (w.index == 0 && ++lane.operations % kPollEvery == 0) tick();
       const auto t0 = Clock::now();
-      const Outcome outcome = process(w, k);
-      if (rule != kR5) w.higher_in_flight.store(false, std::memory_order_release);
+      const Outcome outcome = operation_.process(w, k);
+      if (rule != Rule::R5) lane.higher_in_flight.store(false, std::memory_order_release);
       w.locks.release_all();
       w.live_cells.store(w.cells.live, std::memory_order_relaxed);
       if (outcome == Outcome::conflict) {
         w.rollbacks.fetch_add(1, std::memory_order_relaxed);
         w.contention_ns.fetch_add(nanoseconds_since(t0), std::memory_order_relaxed);
-        w.retry.emplace_back(k, rule);
-        if (++w.consecutive_rollbacks >= kPriorityAfter) {
+        lane.retry.emplace_back(k, rule);
+        if (++lane.consecutive_rollbacks >= kPriorityAfter) {
           int none = -1;
           shared.priority.compare_exchange_strong(none, me, std::memory_order_acq_rel);
-        } else if (w.consecutive_rollbacks > 2) {
+        } else if (lane.consecutive_rollbacks > 2) {
           // Give the holder time to finish before trying near it again.
-          unsigned spins = w.consecutive_rollbacks;
+          unsigned spins = lane.consecutive_rollbacks;
           back_off(spins);
         }
       } else {
-        w.consecutive_rollbacks = 0;
+        lane.consecutive_rollbacks = 0;
         release_priority();
       }
     }
@@ -303,51 +361,44 @@ void Refiner::work(Worker& w, Shared& shared, ProgressSink* sink) {
   release_priority();
 }
 
-void Refiner::enter_parallel(unsigned threads) {
-  if (!concurrent_ready_) {
-    // Vertex ids: the budget, plus the ids of rolled-back insertions and removed vertices.
-    tri_.prepare_concurrent(std::max<std::uint64_t>(4 * params_.vertex_budget, 1u << 20));
-    info_.reserve_blocks(std::size_t{delaunay::kNoCell} + 1);
-    concurrent_ready_ = true;
-  }
-  while (workers_.size() < threads) {
-    const unsigned index = static_cast<unsigned>(workers_.size());
-    workers_.push_back(
-        std::make_unique<Worker>(tri_, index, params_.seed ^ (0x9E3779B97F4A7C15ull * index)));
-  }
+void ParallelRefiner::Impl::enter_parallel(unsigned threads) {
+  state_.prepare_concurrent();
+  workers_.ensure(threads);
+  while (lanes_.size() < threads) lanes_.push_back(std::make_unique<Lane>());
   for (unsigned t = 0; t < threads; ++t) {
-    Worker& w = *workers_[t];
+    Worker& w = workers_[t];
+    Lane& lane = *lanes_[t];
     w.ws = &w.own_ws;
     w.guard = &w.locks;
-    w.consecutive_rollbacks = 0;
-    w.higher_in_flight.store(false, std::memory_order_relaxed);  // (a phase that failed)
+    lane.consecutive_rollbacks = 0;
+    lane.higher_in_flight.store(false, std::memory_order_relaxed);  // (a phase that failed)
   }
 }
 
-void Refiner::leave_parallel(unsigned threads) {
+void ParallelRefiner::Impl::leave_parallel(unsigned threads) {
   for (unsigned t = 0; t < threads; ++t) {
-    Worker& w = *workers_[t];
+    Worker& w = workers_[t];
     w.locks.release_all();
-    tri_.merge(w.own_ws);
+    state_.tri.merge(w.own_ws);
     w.live_cells.store(0, std::memory_order_relaxed);
     w.guard = nullptr;
     w.ws = nullptr;
   }
-  workers_[0]->ws = &tri_.workspace();
+  workers_[0].ws = &state_.tri.workspace();
 }
 
-void Refiner::drain_parallel(ProgressSink* sink) {
-  const unsigned threads = params_.threads;
+void ParallelRefiner::Impl::drain(ProgressSink* sink) {
+  const unsigned threads = state_.params.threads;
   while (true) {
     enter_parallel(threads);
-    if (tri_.stamps_running_low()) tri_.clear_stamps();
+    if (state_.tri.stamps_running_low()) state_.tri.clear_stamps();
     distribute_work(threads);
     Shared shared(threads);
     {
       std::vector<std::jthread> pool;
       for (unsigned t = 1; t < threads; ++t)
-        pool.emplace_back([this, &shared, t] { work(*workers_[t], shared, nullptr); });
-      work(*workers_[0], shared, sink);
+        pool.emplace_back([this, &shared, t] { work(workers_[t], shared, nullptr); });
+      work(workers_[0], shared, sink);
     }  // joined
     leave_parallel(threads);
     if (shared.error) std::rethrow_exception(shared.error);
@@ -356,20 +407,20 @@ void Refiner::drain_parallel(ProgressSink* sink) {
   }
 }
 
-std::size_t Refiner::insert_repair_points(const std::vector<RepairPoint>& points,
-                                          double min_spacing) {
+std::size_t ParallelRefiner::Impl::insert_points(const std::vector<RepairPoint>& points,
+                                                 double min_spacing) {
   std::size_t inserted = 0;
   const auto insert_serially = [&](const RepairPoint& r) {
     // A point already sampled nearby would make a short edge and change little.
-    if (feature_within(r.point, min_spacing)) return;
+    if (state_.feature_within(r.point, min_spacing)) return;
     // (A dead hint is ignored.)
-    inserted += insert_and_admit(*workers_[0], r.point, VertexKind::feature, r.hint.cell, kR1) ==
-                Outcome::done;
+    inserted += operation_.insert(workers_[0], r.point, VertexKind::feature, r.hint.cell,
+                                  Rule::R1) == Outcome::done;
   };
   // A share of a few points is not worth a thread (the first rounds have hundreds).
-  const unsigned threads =
-      static_cast<unsigned>(std::min<std::size_t>(params_.threads, points.size() / kRepairShare));
-  if (threads <= 1 || tri_.stamps_running_low()) {
+  const unsigned threads = static_cast<unsigned>(
+      std::min<std::size_t>(state_.params.threads, points.size() / kRepairShare));
+  if (threads <= 1 || state_.tri.stamps_running_low()) {
     for (const RepairPoint& r : points) insert_serially(r);
     return inserted;
   }
@@ -380,19 +431,19 @@ std::size_t Refiner::insert_repair_points(const std::vector<RepairPoint>& points
   std::vector<std::size_t> done(threads, 0);
   enter_parallel(threads);
   try {
-    delaunay::run_parts(threads, [&](unsigned part) {
-      Worker& w = *workers_[part];
-      const auto [begin, end] = delaunay::part_range(points.size(), part, threads);
+    support::run_parts(threads, [&](unsigned part) {
+      Worker& w = workers_[part];
+      const auto [begin, end] = support::part_range(points.size(), part, threads);
       for (std::size_t i = begin; i < end; ++i) {
         const RepairPoint& r = points[i];
-        if (feature_within(r.point, min_spacing)) continue;
+        if (state_.feature_within(r.point, min_spacing)) continue;
         bool held = true;
         for (VertexId u : r.hint.v) held = held && w.locks.lock(u);
         Outcome outcome = Outcome::conflict;
         // The ball is checked again under the feature index's lock (another thread's point).
-        if (held && still_valid(r.hint))
-          outcome = insert_and_admit(w, r.point, VertexKind::feature, r.hint.cell, kR1, &r.point,
-                                     min_spacing);
+        if (held && state_.still_valid(r.hint))
+          outcome = operation_.insert(w, r.point, VertexKind::feature, r.hint.cell, Rule::R1,
+                                      &r.point, min_spacing);
         w.locks.release_all();
         if (outcome == Outcome::done) ++done[part];
         if (outcome == Outcome::conflict) later[part].push_back(i);

@@ -1,6 +1,6 @@
 // ReaderBiasedMutex (the feature index's lock): writers exclude readers and each other, readers
 // share. Also run under ThreadSanitizer in CI (scripts/test), which reports any unguarded access.
-#include "refine/reader_biased_mutex.h"
+#include "support/reader_biased_mutex.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <thread>
 #include <vector>
 
-namespace mesh4d::refine {
+namespace mesh4d::support {
 namespace {
 
 TEST(ReaderBiasedMutex, ReadersNeverSeeAHalfWrittenPair) {
@@ -72,4 +72,4 @@ TEST(ReaderBiasedMutex, AReaderWaitsForTheWriterAndReadersShare) {
 }
 
 }  // namespace
-}  // namespace mesh4d::refine
+}  // namespace mesh4d::support

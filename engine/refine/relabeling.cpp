@@ -1,15 +1,5 @@
-// Closing the pinches that the repair (refiner_junctions.cpp) leaves, by relabeling.
-//
-// Around a triangle t the pentatopes form a cycle; a label's region is pinched at t when it
-// occupies two or more separate arcs of that cycle (link_labels.h). Where three labels meet at
-// a sharp junction (the time caps, the valve plane), inserting more surface points there does
-// not converge: each new point makes new small pentatopes whose circumcenters again fall on
-// alternating sides. Moving the pentatopes of the shorter arcs (or of the gaps between them) to
-// a neighboring label joins the arcs. A move is allowed only when the moved pentatope has its
-// five vertices on ∂Ω (so every boundary tetrahedron still does, now and after later changes
-// around it), and a pentatope that enters the output meets the quality bounds; the
-// triangulation itself does not change. The moved pentatopes are the exception to "the label
-// of a pentatope is the label at its circumcenter"; RefineResult::relabeled counts them.
+#include "refine/relabeling.h"
+
 #include <algorithm>
 #include <array>
 #include <limits>
@@ -17,9 +7,13 @@
 
 #include "delaunay/geometry.h"
 #include "refine/link_labels.h"
-#include "refine/refiner.h"
 
 namespace mesh4d::refine {
+
+Relabeling::Relabeling(RefinementState& state, const PinchScan& scan, Operation& operation,
+                       Worker& w)
+    : state_(state), scan_(scan), operation_(operation), worker_(w) {}
+
 namespace {
 
 using delaunay::CellId;
@@ -29,41 +23,15 @@ constexpr int kRelabelRounds = 32;
 constexpr int kMoveDepth = 3;  // sets of moves at one pinch: up to three joins
 constexpr long kNotAllowed = std::numeric_limits<long>::min();
 
-using Triangle = std::array<mesh4d::VertexId, 3>;
-
-// The ten triangles of a pentatope, each with its vertices sorted.
-std::array<Triangle, 10> triangles_of(const mesh4d::VertexId (&vertices)[5]) {
-  std::array<mesh4d::VertexId, 5> v;
-  std::copy_n(vertices, 5, v.begin());
-  std::sort(v.begin(), v.end());
-  std::array<Triangle, 10> out;
-  int k = 0;
-  for (int a = 0; a < 5; ++a)
-    for (int b = a + 1; b < 5; ++b)
-      for (int d = b + 1; d < 5; ++d) out[k++] = {v[a], v[b], v[d]};
-  return out;
-}
-
 }  // namespace
 
-std::vector<Refiner::PinchedTriangle> Refiner::pinches_on(const std::vector<CellId>& cells) const {
-  std::vector<std::pair<Triangle, CellId>> triangles;
-  for (CellId c : cells)
-    for (const Triangle& t : triangles_of(tri_.store().cell(c).v)) triangles.push_back({t, c});
-  std::sort(triangles.begin(), triangles.end());
-  std::vector<PinchedTriangle> pinched;
-  for (std::size_t i = 0; i < triangles.size(); ++i)
-    if (i == 0 || triangles[i].first != triangles[i - 1].first)
-      pinches_at(triangles[i].second, triangles[i].first, &pinched);
-  return pinched;
-}
-
-std::vector<std::vector<Refiner::Move>> Refiner::relabel_options(const PinchedTriangle& p) const {
+std::vector<std::vector<Relabeling::Move>> Relabeling::relabel_options(
+    const PinchedTriangle& p) const {
   std::vector<CellId> cycle;
   std::vector<int> crossed;
-  link_cycle(p.facets.front().first, p.triangle, cycle, crossed);
+  scan_.link_cycle(p.facets.front().first, p.triangle, cycle, crossed);
   std::vector<Label> labels(cycle.size());
-  for (std::size_t i = 0; i < cycle.size(); ++i) labels[i] = output_label(cycle[i]);
+  for (std::size_t i = 0; i < cycle.size(); ++i) labels[i] = state_.output_label(cycle[i]);
   std::vector<std::vector<Move>> out;
   std::vector<Label> seen;
   for (Label l : labels) {
@@ -83,7 +51,7 @@ std::vector<std::vector<Refiner::Move>> Refiner::relabel_options(const PinchedTr
   return out;
 }
 
-bool Refiner::movable(CellId c, Label from) const {
+bool Relabeling::movable(CellId c, Label from) const {
   // All five vertices on ∂Ω, not only those of the facets that separate labels once c moves: a
   // facet of c between equal labels now may separate them later, when the unpinch loop's
   // drain replaces the neighbor across it by one of the other label, and R5 cannot see that
@@ -93,26 +61,27 @@ bool Refiner::movable(CellId c, Label from) const {
   // bench row relabels exactly the same pentatopes with this test as with the facets' one.) A
   // pentatope that enters the output (from the background) also meets the quality bounds that
   // R3 and R4 hold inside.
-  const auto& st = tri_.store();
-  if (!info_[c].finite) return false;
+  const auto& st = state_.tri.store();
+  if (!state_.info[c].finite) return false;
   for (mesh4d::VertexId v : st.cell(c).v)
     if (st.vertex(v).kind != delaunay::VertexKind::feature) return false;
-  if (from != 0 || label_of(c) == 0) return true;
-  return !info_[c].long_radius &&
-         delaunay::normalized_volume(simplex_of(c)) >= params_.sliver_bound;
+  if (from != 0 || state_.label_of(c) == 0) return true;
+  return !state_.info[c].long_radius &&
+         delaunay::normalized_volume(state_.simplex_of(c)) >= state_.params.sliver_bound;
 }
 
-std::vector<Label> Refiner::apply(const std::vector<Move>& moves) {
+std::vector<Label> Relabeling::apply(const std::vector<Move>& moves) {
   std::vector<Label> before;
-  for (const Move& m : moves) before.push_back(label_of(m.cell)), set_label(m.cell, m.to);
+  for (const Move& m : moves)
+    before.push_back(state_.label_of(m.cell)), state_.set_label(m.cell, m.to);
   return before;
 }
 
-void Refiner::undo(const std::vector<Move>& moves, const std::vector<Label>& before) {
-  for (std::size_t i = moves.size(); i-- > 0;) set_label(moves[i].cell, before[i]);
+void Relabeling::undo(const std::vector<Move>& moves, const std::vector<Label>& before) {
+  for (std::size_t i = moves.size(); i-- > 0;) state_.set_label(moves[i].cell, before[i]);
 }
 
-long Refiner::relabel_gain(const std::vector<Move>& moves) {
+long Relabeling::relabel_gain(const std::vector<Move>& moves) {
   // The change in the number of pinches on every triangle of the moved pentatopes (the only
   // triangles whose cycles a move changes), or kNotAllowed.
   std::vector<CellId> cells;
@@ -120,25 +89,26 @@ long Refiner::relabel_gain(const std::vector<Move>& moves) {
   std::sort(cells.begin(), cells.end());
   cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
   std::vector<Label> from(cells.size());
-  for (std::size_t i = 0; i < cells.size(); ++i) from[i] = label_of(cells[i]);
-  const long before = static_cast<long>(pinches_on(cells).size());
+  for (std::size_t i = 0; i < cells.size(); ++i) from[i] = state_.label_of(cells[i]);
+  const long before = static_cast<long>(scan_.pinches_on(cells).size());
   const std::vector<Label> saved = apply(moves);
   bool allowed = true;
   for (std::size_t i = 0; i < cells.size() && allowed; ++i)
-    allowed = label_of(cells[i]) == from[i] || movable(cells[i], from[i]);
-  const long gain = allowed ? before - static_cast<long>(pinches_on(cells).size()) : kNotAllowed;
+    allowed = state_.label_of(cells[i]) == from[i] || movable(cells[i], from[i]);
+  const long gain =
+      allowed ? before - static_cast<long>(scan_.pinches_on(cells).size()) : kNotAllowed;
   undo(moves, saved);
   return gain;
 }
 
-void Refiner::extend_moves(const std::vector<Move>& base, int depth, MoveSearch& search) {
+void Relabeling::extend_moves(const std::vector<Move>& base, int depth, MoveSearch& search) {
   // The pinches that `base` leaves or makes on the triangles of its pentatopes, and each way
   // to join the labels around them, added to base.
   std::vector<CellId> cells;
   for (const Move& m : base) cells.push_back(m.cell);
   const std::vector<Label> saved = apply(base);
   std::vector<std::vector<Move>> next;
-  for (const PinchedTriangle& q : pinches_on(cells))
+  for (const PinchedTriangle& q : scan_.pinches_on(cells))
     for (auto& o : relabel_options(q)) next.push_back(std::move(o));
   undo(base, saved);
   for (const auto& o : next) {
@@ -157,9 +127,9 @@ void Refiner::extend_moves(const std::vector<Move>& base, int depth, MoveSearch&
   }
 }
 
-std::size_t Refiner::relabel_pinches() {
+std::size_t Relabeling::relabel_pinches() {
   std::size_t moved = 0;
-  shifted_.assign(tri_.store().cell_slots(), false);
+  shifted_.assign(state_.tri.store().cell_slots(), false);
   // Each accepted set of moves lowers the number of pinches. A move that joins the labels
   // around the pinched triangle but splits them around another triangle of the moved
   // pentatopes (a label checkerboard around an edge) is extended, up to kMoveDepth levels,
@@ -204,51 +174,41 @@ std::size_t Refiner::relabel_pinches() {
     moved_cells.erase(std::unique(moved_cells.begin(), moved_cells.end()), moved_cells.end());
     std::vector<Triangle> changed;
     for (CellId c : moved_cells)
-      for (const Triangle& t : triangles_of(tri_.store().cell(c).v)) changed.push_back(t);
+      for (const Triangle& t : triangles_of(state_.tri.store().cell(c).v)) changed.push_back(t);
     std::sort(changed.begin(), changed.end());
-    std::vector<PinchedTriangle> updated = pinches_on(moved_cells);
+    std::vector<PinchedTriangle> updated = scan_.pinches_on(moved_cells);
     for (const PinchedTriangle& p : pinched)
       if (!std::binary_search(changed.begin(), changed.end(), p.triangle)) updated.push_back(p);
-    set_current_pinches(std::move(updated));
+    set_current(std::move(updated));
   }
   return moved;
 }
 
-const std::vector<Refiner::PinchedTriangle>& Refiner::current_pinches() {
-  if (!pinches_current_) {
+const std::vector<PinchedTriangle>& Relabeling::current_pinches() {
+  if (!current_known_) {
     std::vector<PinchedTriangle> counted;
-    count_pinches(&counted);
-    set_current_pinches(std::move(counted));
+    scan_.count(&counted);
+    set_current(std::move(counted));
   }
-  return current_pinches_;
+  return current_;
 }
 
-void Refiner::sort_canonically(std::vector<PinchedTriangle>& pinches) const {
-  // Every facet of a pinch lies in a pentatope of the pinched region: its label is the pinch's.
-  for (PinchedTriangle& p : pinches) std::sort(p.facets.begin(), p.facets.end());
-  std::sort(
-      pinches.begin(), pinches.end(), [&](const PinchedTriangle& a, const PinchedTriangle& b) {
-        const Label la = label_of(a.facets.front().first), lb = label_of(b.facets.front().first);
-        return a.triangle != b.triangle ? a.triangle < b.triangle : la < lb;
-      });
+void Relabeling::set_current(std::vector<PinchedTriangle> pinches) {
+  scan_.sort_canonically(pinches);
+  current_ = std::move(pinches);
+  current_known_ = true;
 }
 
-void Refiner::set_current_pinches(std::vector<PinchedTriangle> pinches) {
-  sort_canonically(pinches);
-  current_pinches_ = std::move(pinches);
-  pinches_current_ = true;
-}
-
-std::size_t Refiner::remove_free_vertices_at_pinches() {
+std::size_t Relabeling::remove_free_vertices_at_pinches() {
   // The free vertices of the pentatopes around each pinched triangle: they stop the
   // relabeling there (a moved pentatope would put them on the boundary).
-  const auto& st = tri_.store();
+  const auto& st = state_.tri.store();
   const std::vector<PinchedTriangle> pinched = current_pinches();
   std::vector<mesh4d::VertexId> free;
   std::vector<CellId> cycle;
   std::vector<int> crossed;
   for (const PinchedTriangle& p : pinched) {
-    link_cycle(p.facets.front().first, p.triangle, cycle, crossed);
+    scan_.link_cycle(p.facets.front().first, p.triangle, cycle, crossed);
     for (CellId c : cycle)
       for (mesh4d::VertexId v : st.cell(c).v)
         if (v != delaunay::kInfiniteVertex && st.vertex(v).kind == delaunay::VertexKind::free)
@@ -260,13 +220,13 @@ std::size_t Refiner::remove_free_vertices_at_pinches() {
   std::vector<CellId> created;
   for (mesh4d::VertexId v : free) {
     created.clear();
-    if (!tri_.remove(v, &created)) continue;
+    if (!state_.tri.remove(v, &created)) continue;
     ++removed;
-    pinches_current_ = false;
+    current_known_ = false;
     std::vector<CellId> live;
     for (CellId c : created)
       if (st.is_live(c)) live.push_back(c);
-    admit(live);
+    operation_.admit(worker_, live);
   }
   return removed;
 }

@@ -1,12 +1,12 @@
 // BlockStack (the refiner's queues): last in, first out across block boundaries; the parallel
 // refiner's stealing takes the oldest elements in order.
-#include "refine/block_stack.h"
+#include "support/block_stack.h"
 
 #include <gtest/gtest.h>
 
 #include <vector>
 
-namespace mesh4d::refine {
+namespace mesh4d::support {
 namespace {
 
 // Beyond two blocks of 4096, so that pushes and pops cross block boundaries.
@@ -54,4 +54,4 @@ TEST(BlockStack, AssignsAppendsAndCopiesOut) {
 }
 
 }  // namespace
-}  // namespace mesh4d::refine
+}  // namespace mesh4d::support

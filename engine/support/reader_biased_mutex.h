@@ -13,7 +13,7 @@
 #include <mutex>
 #include <thread>
 
-namespace mesh4d::refine {
+namespace mesh4d::support {
 
 class ReaderBiasedMutex {
  public:
@@ -59,4 +59,4 @@ class ReaderBiasedMutex {
   std::mutex writers_;
 };
 
-}  // namespace mesh4d::refine
+}  // namespace mesh4d::support

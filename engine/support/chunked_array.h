@@ -21,7 +21,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace mesh4d::delaunay {
+namespace mesh4d::support {
 
 template <class T>
 class ChunkedArray {
@@ -69,4 +69,4 @@ class ChunkedArray {
   std::mutex grow_;
 };
 
-}  // namespace mesh4d::delaunay
+}  // namespace mesh4d::support

@@ -9,7 +9,7 @@
 #include <thread>
 #include <vector>
 
-namespace mesh4d::delaunay {
+namespace mesh4d::support {
 
 template <class Fn>
 void run_parts(unsigned parts, Fn&& fn) {
@@ -41,4 +41,4 @@ inline std::pair<std::size_t, std::size_t> part_range(std::size_t n, unsigned p,
   return {n * p / parts, n * (p + 1) / parts};
 }
 
-}  // namespace mesh4d::delaunay
+}  // namespace mesh4d::support

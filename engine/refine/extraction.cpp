@@ -2,11 +2,12 @@
 // the finite pentatopes whose circumcenter lies inside a label, tagged with it, in cell order;
 // their vertices in vertex-id order; and the boundary tetrahedra (facets between a kept
 // pentatope and a neighbor of another label, or none) in the order of their pentatopes.
+#include "refine/extraction.h"
+
 #include <algorithm>
 #include <atomic>
 
-#include "delaunay/parallel_parts.h"
-#include "refine/refiner.h"
+#include "support/parallel_parts.h"
 
 namespace mesh4d::refine {
 
@@ -26,23 +27,23 @@ mesh::VertexKind output_kind(VertexKind k) {
 
 }  // namespace
 
-mesh::Mesh4 Refiner::extract(std::vector<std::string>& warnings) const {
-  const auto& st = tri_.store();
+mesh::Mesh4 extract(const RefinementState& state, std::vector<std::string>& warnings) {
+  const auto& st = state.tri.store();
   const std::size_t slots = st.cell_slots();
   const unsigned parts = static_cast<unsigned>(
-      std::clamp<std::size_t>(slots / kMinShare, 1, std::max(params_.threads, 1u)));
+      std::clamp<std::size_t>(slots / kMinShare, 1, std::max(state.params.threads, 1u)));
 
   // Pass 1, by shares of the cell slots: every pentatope's label, which are kept, and which
   // vertices they use (several threads may mark one vertex: atomic stores of the same value).
   std::vector<domain::Label> label(slots, 0);
   std::vector<std::uint8_t> used(st.vertex_slots(), 0);
   std::vector<std::size_t> first(parts + 1, 0);  // output index of each share's first pentatope
-  delaunay::run_parts(parts, [&](unsigned part) {
-    const auto [begin, end] = delaunay::part_range(slots, part, parts);
+  support::run_parts(parts, [&](unsigned part) {
+    const auto [begin, end] = support::part_range(slots, part, parts);
     std::size_t kept = 0;
     for (CellId c = static_cast<CellId>(begin); c < end; ++c) {
-      if (!st.is_live(c) || st.is_infinite(c) || !info_[c].finite) continue;
-      label[c] = label_of(c);
+      if (!st.is_live(c) || st.is_infinite(c) || !state.info[c].finite) continue;
+      label[c] = state.label_of(c);
       if (label[c] == 0) continue;
       ++kept;
       for (VertexId v : st.cell(c).v) std::atomic_ref(used[v]).store(1, std::memory_order_relaxed);
@@ -66,8 +67,8 @@ mesh::Mesh4 Refiner::extract(std::vector<std::string>& warnings) const {
   mesh.pentatopes.resize(first[parts]);
   mesh.labels.resize(first[parts]);
   std::vector<std::vector<mesh::BoundaryTetrahedron>> boundary(parts);
-  delaunay::run_parts(parts, [&](unsigned part) {
-    const auto [begin, end] = delaunay::part_range(slots, part, parts);
+  support::run_parts(parts, [&](unsigned part) {
+    const auto [begin, end] = support::part_range(slots, part, parts);
     std::size_t out = first[part];
     for (CellId c = static_cast<CellId>(begin); c < end; ++c) {
       if (label[c] == 0) continue;

@@ -12,9 +12,9 @@
 #include <cstddef>
 #include <vector>
 
-#include "delaunay/chunked_array.h"
+#include "support/chunked_array.h"
 
-namespace mesh4d::refine {
+namespace mesh4d::support {
 
 template <class T>
 class BlockStack {
@@ -57,8 +57,8 @@ class BlockStack {
 
  private:
   // Blocks of 4096 elements: 96 KiB of candidates, small beside a queue's peak.
-  delaunay::ChunkedArray<T> items_{12};
+  ChunkedArray<T> items_{12};
   std::size_t size_ = 0;
 };
 
-}  // namespace mesh4d::refine
+}  // namespace mesh4d::support

@@ -1,0 +1,87 @@
+// Pinch repair (docs/algorithm.md, "Where labels meet"): where three labels meet, the paper's
+// rules, proven for one label, can leave a label's region boundary pinched. The restricted
+// facets around each pinched triangle are sampled at their surface centers (points of ∂Ω on
+// their Voronoi edges, as R5 uses), which splits them, and the rules run again; in rounds, with
+// the spacing to earlier samples halved when the count stalls (RepairPolicy), so the work
+// stays bounded.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "refine/facet_log.h"
+#include "refine/operation.h"
+#include "refine/pinch_counts.h"
+#include "refine/pinch_scan.h"
+
+namespace mesh4d::refine {
+
+class PinchRepair {
+ public:
+  /// Applies the rules until none applies.
+  using Drain = std::function<void()>;
+  /// Inserts repair points not within the spacing of a feature vertex; returns how many.
+  using Insert = std::function<std::size_t(const std::vector<RepairPoint>&, double spacing)>;
+
+  PinchRepair(RefinementState& state, const PinchScan& scan, Operation& operation);
+
+  /// The repair's rounds. Returns the pinches of its last count when no insertion followed it
+  /// (otherwise nothing: they must be counted again).
+  std::optional<std::vector<PinchedTriangle>> run(const Drain& drain, const Insert& insert);
+
+  /// Tests: every count after the first is also taken by a full scan, and a difference (in the
+  /// pinches, or in any triangle's count) throws std::logic_error.
+  void set_count_check(bool on) { check_counts_ = on; }
+  /// Tests: every point skipped as refused in an earlier round is computed again, and one that
+  /// would now differ or go in throws std::logic_error.
+  void set_refused_point_check(bool on) { check_refused_ = on; }
+  std::size_t refused_points_rechecked() const { return refused_rechecked_; }
+  /// How many counts were taken from facet changes, and how many of those a full scan checked.
+  std::size_t counts_from_changes() const { return counts_from_changes_; }
+  std::size_t counts_checked() const { return counts_checked_; }
+
+ private:
+  // A pinched triangle's repair point that lay within the spacing of a feature vertex, and what
+  // it was computed from: per facet, its pentatope's and the neighbor's vertices (in order: a
+  // pentatope made again from them has the same circumcenter). While they hold, the point is
+  // the same and still refused (feature vertices are never removed), so later rounds at that
+  // spacing skip it (Pat05 at the paper's spacing: late rounds refused nearly all of about
+  // 1,300 points each).
+  struct RefusedPoint {
+    Point4 point;
+    double spacing;
+    std::vector<delaunay::CellId> neighbors;
+    std::vector<mesh4d::VertexId> vertices;
+  };
+  // Counts the pinches into known_: a full scan the first time, then only where pentatopes
+  // changed since (from the facet log).
+  std::size_t count();
+  std::size_t count_from_facet_changes(std::vector<PinchedTriangle>* pinched);
+  // Finds a point per pinched triangle of the last count, none closer than `min_spacing` to a
+  // feature vertex, and inserts them; returns how many went in.
+  std::size_t repair(double min_spacing, const Insert& insert);
+  // t's repair point: the surface center of its largest restricted facet, and a pentatope that
+  // holds that facet; false when no facet's Voronoi edge crosses ∂Ω.
+  bool repair_point_of(const PinchedTriangle& t, Point4* point, delaunay::CellId* hint) const;
+  // Whether `refused` still describes the facets of `t` (the same pentatopes, neighbors).
+  bool still_refused(const PinchedTriangle& t, const RefusedPoint& refused, double spacing) const;
+
+  RefinementState& state_;
+  const PinchScan& scan_;
+  Operation& operation_;
+  FacetLog log_;
+  bool logging_ = false;                // the facet log is the operations' observer
+  std::vector<PinchedTriangle> known_;  // found by the last count, in canonical order
+  PinchCounts counts_;                  // every triangle's count, kept from facet changes
+  // The last round's refused points, by their triangle's facets (still_refused()).
+  std::map<std::vector<std::pair<delaunay::CellId, int>>, RefusedPoint> refused_;
+  bool check_counts_ = false;
+  bool check_refused_ = false;
+  std::size_t refused_rechecked_ = 0;
+  std::size_t counts_from_changes_ = 0;
+  std::size_t counts_checked_ = 0;
+};
+
+}  // namespace mesh4d::refine
