@@ -3,8 +3,10 @@
 // cores still finish (the contention manager); cancellation and the budget stop every worker.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <future>
 #include <string>
 
@@ -94,23 +96,42 @@ TEST_P(ParallelRefiner, EveryPhantomPassesTheSequentialChecks) {
 
 INSTANTIATE_TEST_SUITE_P(Threads, ParallelRefiner, ::testing::Values(1u, 2u, 4u, 8u));
 
+// Asks the refinement to stop once the watchdog has fired.
+class Watchdog final : public ProgressSink {
+ public:
+  void on_progress(const Progress&) override {}
+  bool should_abort() override { return fired.load(); }
+  std::atomic<bool> fired{false};
+};
+
 // Sixteen threads on this machine's two cores, on a small dense phantom (every worker works
 // next to the others): conflicts are certain, and only the contention manager's token keeps
-// them from rolling each other back forever. A watchdog turns a livelock into a failure.
+// them from rolling each other back forever. A watchdog turns a livelock into this test's
+// failure: it cancels the run, and if even that does not end it, the test reports and exits
+// (the future's destructor would wait on the livelock until CTest's timeout).
 TEST(ParallelRefinerProgress, OversubscribedThreadsStillFinish) {
   const auto image = domain::hypersphere_phantom({20, 20, 20, 20}, {1, 1, 1, 1}, 7);
   const domain::SurfaceOracle oracle(image);
   RefineParams params;
   params.delta = 1.5;
   params.threads = 16;
+  Watchdog watchdog;
   auto run = std::async(std::launch::async, [&] {
     Refiner refiner(oracle, params);
-    RefineResult r = refiner.run();
+    RefineResult r = refiner.run(&watchdog);
     EXPECT_TRUE(delaunay::check_triangulation(refiner.triangulation()).ok);
     return r;
   });
-  ASSERT_EQ(run.wait_for(std::chrono::minutes(3)), std::future_status::ready)
-      << "no progress in 3 minutes: livelock";
+  if (run.wait_for(std::chrono::minutes(3)) != std::future_status::ready) {
+    watchdog.fired = true;
+    if (run.wait_for(std::chrono::seconds(30)) != std::future_status::ready) {
+      ADD_FAILURE() << "no progress in 3 minutes, and still running 30 s after it was cancelled: "
+                       "livelock";
+      std::fflush(stdout);
+      std::_Exit(1);
+    }
+    FAIL() << "no progress in 3 minutes: livelock (the run was cancelled)";
+  }
   const RefineResult r = run.get();
   std::printf("16 threads: %llu pentatopes in %.2f s, %llu rollbacks, contention %.2f s\n",
               (unsigned long long)r.stats.pentatopes, r.stats.elapsed_seconds,
