@@ -22,8 +22,8 @@
 #include "mesh/mesh_io.h"
 #include "mesh4d/v1/mesh4d.grpc.pb.h"
 #include "refine/refiner.h"
-#include "upload_check.h"
-#include "upload_encoding.h"
+#include "wire/submit_stream.h"
+#include "wire/upload_codec.h"
 
 using namespace mesh4d;
 using Clock = std::chrono::steady_clock;
@@ -51,7 +51,7 @@ double in_process_ms(const v1::ImageHeader& header, const std::string& raw, doub
                      std::uint64_t* pentatopes) {
   const auto t0 = Clock::now();
   std::vector<std::string> warnings;
-  const domain::LabelImage4 image = server::decode_upload(header, raw, &warnings);
+  const domain::LabelImage4 image = wire::decode_upload(header, raw, &warnings);
   const domain::SurfaceOracle oracle(image);
   refine::RefineParams params;
   params.delta = delta;
@@ -74,17 +74,7 @@ ServiceTimes through_service(v1::MeshService::Stub& stub, const v1::JobSpec& spe
   v1::SubmitJobResponse response;
   {
     grpc::ClientContext context;
-    auto writer = stub.SubmitJob(&context, &response);
-    v1::SubmitJobRequest message;
-    *message.mutable_spec() = spec;
-    bool ok = writer->Write(message);
-    for (std::size_t at = 0; ok && at < raw.size(); at += 1 << 20) {
-      message.Clear();
-      message.set_chunk(raw.substr(at, 1 << 20));
-      ok = writer->Write(message);
-    }
-    writer->WritesDone();
-    const grpc::Status status = writer->Finish();
+    const grpc::Status status = wire::submit_job(stub, context, spec, raw, &response);
     if (!status.ok()) {
       std::fprintf(stderr, "submit: %s\n", status.error_message().c_str());
       return t;
@@ -163,7 +153,7 @@ int main(int argc, char** argv) {
   int request = 0;
   for (const Case& c : cases) {
     v1::JobSpec spec;
-    const std::string raw = client::encode_upload(c.image, spec.mutable_image());
+    const std::string raw = wire::encode_upload(c.image, spec.mutable_image());
     spec.mutable_params()->set_delta(c.delta);
     std::vector<double> local, ack, first, progress, total;
     std::uint64_t pentatopes = 0;

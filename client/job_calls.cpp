@@ -10,6 +10,7 @@
 #include "exit_codes.h"
 #include "job_printing.h"
 #include "mesh/mesh_io.h"
+#include "wire/digest.h"
 
 namespace mesh4d::client {
 
@@ -86,9 +87,7 @@ int fetch_result(const GlobalOptions& global, const std::string& id, const std::
   }
   const grpc::Status status = reader->Finish();
   if (!status.ok()) return report_rpc_error("fetch " + id, status, global);
-  const auto digest = mesh::sha256(reinterpret_cast<const std::uint8_t*>(mesh.data()), mesh.size());
-  if (!have_header || mesh.size() != header.byte_size() ||
-      header.sha256() != std::string(reinterpret_cast<const char*>(digest.data()), 32)) {
+  if (!have_header || mesh.size() != header.byte_size() || header.sha256() != wire::sha256(mesh)) {
     std::cerr << "mesh4d-client: fetch " << id
               << ": the mesh arrived incomplete or corrupted (size or SHA-256 differ)\n";
     return kExitServerError;

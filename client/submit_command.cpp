@@ -4,7 +4,6 @@
 #include <CLI/CLI.hpp>
 #include <fstream>
 #include <iostream>
-#include <nlohmann/json.hpp>
 #include <random>
 
 #include "connection.h"
@@ -13,12 +12,12 @@
 #include "job_calls.h"
 #include "job_commands.h"
 #include "job_printing.h"
-#include "upload_encoding.h"
+#include "wire/params_json.h"
+#include "wire/submit_stream.h"
+#include "wire/upload_codec.h"
 
 namespace mesh4d::client {
 namespace {
-
-constexpr std::size_t kChunk = 1 << 20;
 
 struct SubmitOptions {
   std::string image;
@@ -31,39 +30,17 @@ struct SubmitOptions {
   bool wait = false;
 };
 
-// The raw upload: one byte per voxel when every label fits, else two (little-endian).
-// --params file (JSON keys as the RefineParams fields), then the flags on top.
+// --params file (JSON keys as the RefineParams fields, read as the REST face reads them), then
+// the flags on top.
 void fill_params(const SubmitOptions& o, v1::RefineParams* p) {
   if (!o.params_file.empty()) {
     std::ifstream in(o.params_file);
     if (!in) throw std::runtime_error("cannot read " + o.params_file);
-    const auto j = nlohmann::json::parse(in);
-    for (const auto& [key, value] : j.items()) {
-      if (key == "delta")
-        p->set_delta(value.get<double>());
-      else if (key == "radius_edge_bound")
-        p->set_radius_edge_bound(value.get<double>());
-      else if (key == "picking_ratio")
-        p->set_picking_ratio(value.get<double>());
-      else if (key == "picking_trials")
-        p->set_picking_trials(value.get<unsigned>());
-      else if (key == "sliver_bound")
-        p->set_sliver_bound(value.get<double>());
-      else if (key == "max_interior_radius")
-        p->set_max_interior_radius(value.get<double>());
-      else if (key == "seed")
-        p->set_seed(value.get<std::uint64_t>());
-      else if (key == "vertex_budget")
-        p->set_vertex_budget(value.get<std::uint64_t>());
-      else if (key == "threads")
-        p->set_threads(value.get<unsigned>());
-      else if (key == "extend_time_frames")
-        p->set_extend_time_frames(value.get<unsigned>());
-      else if (key == "rule_order")
-        p->set_rule_order(value.get<std::string>() == "paper" ? v1::RULE_ORDER_PAPER
-                                                              : v1::RULE_ORDER_R3_FIRST);
-      else
-        throw std::runtime_error(o.params_file + ": unknown parameter '" + key + "'");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    try {
+      wire::parse_params(text, p);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(o.params_file + ": " + e.what());
     }
   }
   if (o.delta) p->set_delta(o.delta);
@@ -88,7 +65,7 @@ int run_submit(const GlobalOptions& global, const SubmitOptions& o) {
                                           ? domain::read_label_image(o.image)
                                           : domain::read_label_frames(o.frames, o.time_scale);
     auto* h = spec.mutable_image();
-    raw = encode_upload(image, h);
+    raw = wire::encode_upload(image, h);
     // The time scale of a 4D file can be overridden; a frame series got it when read.
     if (o.frames.empty() && o.time_scale != 1) h->mutable_spacing()->set_t(o.time_scale);
     fill_params(o, spec.mutable_params());
@@ -104,17 +81,7 @@ int run_submit(const GlobalOptions& global, const SubmitOptions& o) {
   grpc::ClientContext context;
   prepare(context, global, false);
   v1::SubmitJobResponse response;
-  auto writer = stub->SubmitJob(&context, &response);
-  v1::SubmitJobRequest message;
-  *message.mutable_spec() = spec;
-  bool sent = writer->Write(message);
-  for (std::size_t at = 0; sent && at < raw.size(); at += kChunk) {
-    message.Clear();
-    message.set_chunk(raw.substr(at, kChunk));
-    sent = writer->Write(message);
-  }
-  writer->WritesDone();
-  const grpc::Status status = writer->Finish();
+  const grpc::Status status = wire::submit_job(*stub, context, spec, raw, &response);
   if (!status.ok()) return report_rpc_error("submit", status, global);
   std::cout << response.job().id() << "\n" << std::flush;
   for (const auto& w : response.job().warnings()) std::cerr << "warning: " << w << "\n";

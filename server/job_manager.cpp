@@ -12,8 +12,8 @@
 #include "job_runner.h"
 #include "proto_convert.h"
 #include "refine/refiner.h"
-#include "service_error.h"
-#include "upload_check.h"
+#include "wire/service_error.h"
+#include "wire/upload_codec.h"
 
 namespace mesh4d::server {
 namespace {
@@ -44,7 +44,7 @@ std::string list_key(const v1::Job& job) {
 }
 
 [[noreturn]] void not_found(const std::string& id) {
-  throw ServiceError(ErrorCode::not_found, "no job with id '" + id + "'");
+  throw wire::ServiceError(wire::ErrorCode::not_found, "no job with id '" + id + "'");
 }
 
 }  // namespace
@@ -109,13 +109,14 @@ std::vector<std::string> JobManager::start() {
 }
 
 JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string data) {
-  if (!spec.has_image()) throw ServiceError(ErrorCode::invalid_argument, "spec.image is missing");
-  const std::uint64_t bytes = check_header(spec.image());
+  if (!spec.has_image())
+    throw wire::ServiceError(wire::ErrorCode::invalid_argument, "spec.image is missing");
+  const std::uint64_t bytes = wire::check_header(spec.image());
   if (bytes > config_.max_image_bytes) {
     std::ostringstream m;
     m << "the image has " << bytes << " bytes; this server accepts at most "
       << config_.max_image_bytes;
-    throw ServiceError(ErrorCode::resource_exhausted, m.str());
+    throw wire::ServiceError(wire::ErrorCode::resource_exhausted, m.str());
   }
   refine::RefineParams params = to_engine(spec.params());
   // An unset budget is the engine's default within this server's limit; only an explicit one
@@ -125,19 +126,19 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
   try {
     refine::validate(params);
   } catch (const refine::ParamError& e) {
-    throw ServiceError(ErrorCode::invalid_argument, std::string("params: ") + e.what());
+    throw wire::ServiceError(wire::ErrorCode::invalid_argument, std::string("params: ") + e.what());
   }
   if (spec.params().extend_time_frames() > domain::kMaxTimeExtension) {
     std::ostringstream m;
     m << "params.extend_time_frames " << spec.params().extend_time_frames() << " is over "
       << domain::kMaxTimeExtension;
-    throw ServiceError(ErrorCode::invalid_argument, m.str());
+    throw wire::ServiceError(wire::ErrorCode::invalid_argument, m.str());
   }
   if (params.vertex_budget > config_.max_vertex_budget) {
     std::ostringstream m;
     m << "params.vertex_budget " << params.vertex_budget << " is over this server's limit of "
       << config_.max_vertex_budget;
-    throw ServiceError(ErrorCode::resource_exhausted, m.str());
+    throw wire::ServiceError(wire::ErrorCode::resource_exhausted, m.str());
   }
   const unsigned threads = spec.params().threads() == 0
                                ? config_.threads_per_job
@@ -148,9 +149,9 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
     if (it == by_request_id_.end()) return nullptr;
     const Entry& e = find(it->second);
     if (e.job.image().sha256() != spec.image().sha256())
-      throw ServiceError(ErrorCode::invalid_argument,
-                         "request_id '" + spec.request_id() +
-                             "' was already used for another image (job " + e.job.id() + ")");
+      throw wire::ServiceError(wire::ErrorCode::invalid_argument,
+                               "request_id '" + spec.request_id() +
+                                   "' was already used for another image (job " + e.job.id() + ")");
     return &e;
   };
   {
@@ -158,14 +159,14 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
     if (const Entry* e = duplicate()) return {view(*e), true};
   }
   std::vector<std::string> warnings;
-  decode_upload(spec.image(), data, &warnings);  // size, checksum and labels; throws
+  wire::decode_upload(spec.image(), data, &warnings);  // size, checksum and labels; throws
 
   std::lock_guard lock(mu_);
   if (const Entry* e = duplicate()) return {view(*e), true};  // a concurrent retry won
   if (queue_.size() >= config_.max_queued_jobs) {
     std::ostringstream m;
     m << "the queue is full (" << queue_.size() << " jobs waiting); retry later";
-    throw ServiceError(ErrorCode::resource_exhausted, m.str());
+    throw wire::ServiceError(wire::ErrorCode::resource_exhausted, m.str());
   }
   auto e = std::make_unique<Entry>();
   v1::Job& job = e->job;
@@ -182,7 +183,8 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
     store_.create(job, data);
   } catch (const std::exception& ex) {
     store_.remove(job.id());
-    throw ServiceError(ErrorCode::internal, std::string("cannot store the job: ") + ex.what());
+    throw wire::ServiceError(wire::ErrorCode::internal,
+                             std::string("cannot store the job: ") + ex.what());
   }
   if (observer_) observer_->on_bytes_received(data.size());
   const std::string id = job.id();
@@ -260,8 +262,9 @@ void JobManager::remove(const std::string& id) {
   std::lock_guard lock(mu_);
   Entry& e = find(id);
   if (e.job.state() == v1::JOB_STATE_RUNNING)
-    throw ServiceError(ErrorCode::failed_precondition,
-                       "job " + id + " is running: cancel it, then delete it once it has stopped");
+    throw wire::ServiceError(
+        wire::ErrorCode::failed_precondition,
+        "job " + id + " is running: cancel it, then delete it once it has stopped");
   if (e.job.state() == v1::JOB_STATE_QUEUED)
     queue_.erase(std::find(queue_.begin(), queue_.end(), id));
   if (!e.job.request_id().empty()) by_request_id_.erase(e.job.request_id());
@@ -275,7 +278,8 @@ JobManager::Page JobManager::list(v1::JobState state, std::uint32_t page_size,
                                   const std::string& token) const {
   constexpr std::uint32_t kDefaultPage = 50, kMaxPage = 1000;
   if (!token.empty() && (token.size() < 32 || token[20] != '.' || token[30] != '/'))
-    throw ServiceError(ErrorCode::invalid_argument, "page_token is not one this server gave");
+    throw wire::ServiceError(wire::ErrorCode::invalid_argument,
+                             "page_token is not one this server gave");
   const std::uint32_t size = page_size == 0 ? kDefaultPage : std::min(page_size, kMaxPage);
   std::lock_guard lock(mu_);
   std::vector<std::pair<std::string, const Entry*>> matching;
@@ -299,18 +303,20 @@ JobManager::Result JobManager::result(const std::string& id) const {
     std::lock_guard lock(mu_);
     const Entry& e = find(id);
     if (e.job.state() == v1::JOB_STATE_CANCELLED)
-      throw ServiceError(ErrorCode::cancelled,
-                         "job " + id + " was cancelled (" + e.job.error() + "): it has no result");
+      throw wire::ServiceError(
+          wire::ErrorCode::cancelled,
+          "job " + id + " was cancelled (" + e.job.error() + "): it has no result");
     if (e.job.state() != v1::JOB_STATE_SUCCEEDED)
-      throw ServiceError(ErrorCode::failed_precondition,
-                         "job " + id + " is " + v1::JobState_Name(e.job.state()) +
-                             ": a result exists once it has SUCCEEDED");
+      throw wire::ServiceError(wire::ErrorCode::failed_precondition,
+                               "job " + id + " is " + v1::JobState_Name(e.job.state()) +
+                                   ": a result exists once it has SUCCEEDED");
     r.job = view(e);
   }
   try {
     r.mesh = store_.read_result(id);
   } catch (const std::exception& ex) {
-    throw ServiceError(ErrorCode::internal, std::string("cannot read the result: ") + ex.what());
+    throw wire::ServiceError(wire::ErrorCode::internal,
+                             std::string("cannot read the result: ") + ex.what());
   }
   return r;
 }

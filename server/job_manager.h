@@ -51,7 +51,7 @@ class JobManager {
     v1::Job job;
     bool deduplicated = false;
   };
-  /// Validates, stores durably, then queues. Throws ServiceError.
+  /// Validates, stores durably, then queues. Throws wire::ServiceError.
   Submitted submit(const v1::JobSpec& spec, std::string data);
 
   v1::Job get(const std::string& id) const;

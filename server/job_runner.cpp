@@ -3,7 +3,7 @@
 #include "domain/surface_oracle.h"
 #include "mesh/mesh_io.h"
 #include "refine/refiner.h"
-#include "upload_check.h"
+#include "wire/upload_codec.h"
 
 namespace mesh4d::server {
 namespace {
@@ -33,7 +33,8 @@ JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& pa
   refine::Progress phase;
   phase.phase = refine::Phase::loading;
   sink.on_progress(phase);
-  const domain::LabelImage4 image = decode_upload(header, input, &out.warnings, extend_time_frames);
+  const domain::LabelImage4 image =
+      wire::decode_upload(header, input, &out.warnings, extend_time_frames);
   if (sink.should_abort()) throw refine::Cancelled();
   phase.phase = refine::Phase::distance_map;
   sink.on_progress(phase);

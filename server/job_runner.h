@@ -21,7 +21,7 @@ struct JobOutcome {
   std::size_t relabeled = 0;  // pentatopes given a neighbor's label to close pinches
 };
 
-/// Throws refine::Cancelled, refine::BudgetExceeded, ServiceError (bad input) or
+/// Throws refine::Cancelled, refine::BudgetExceeded, wire::ServiceError (bad input) or
 /// std::exception. `extend_time_frames`: see RefineParams.extend_time_frames in the proto.
 JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& params,
                    std::size_t extend_time_frames, std::string_view input,

@@ -5,27 +5,28 @@
 #include <chrono>
 
 #include "mesh/mesh_io.h"
-#include "service_error.h"
-#include "upload_check.h"
+#include "wire/digest.h"
+#include "wire/service_error.h"
+#include "wire/upload_codec.h"
 
 namespace mesh4d::server {
 namespace {
 
 constexpr std::size_t kResultChunk = 1 << 20;
 
-grpc::Status to_status(const ServiceError& e) {
+grpc::Status to_status(const wire::ServiceError& e) {
   switch (e.code()) {
-    case ErrorCode::invalid_argument:
+    case wire::ErrorCode::invalid_argument:
       return {grpc::StatusCode::INVALID_ARGUMENT, e.what()};
-    case ErrorCode::not_found:
+    case wire::ErrorCode::not_found:
       return {grpc::StatusCode::NOT_FOUND, e.what()};
-    case ErrorCode::failed_precondition:
+    case wire::ErrorCode::failed_precondition:
       return {grpc::StatusCode::FAILED_PRECONDITION, e.what()};
-    case ErrorCode::cancelled:
+    case wire::ErrorCode::cancelled:
       return {grpc::StatusCode::CANCELLED, e.what()};
-    case ErrorCode::resource_exhausted:
+    case wire::ErrorCode::resource_exhausted:
       return {grpc::StatusCode::RESOURCE_EXHAUSTED, e.what()};
-    case ErrorCode::internal:
+    case wire::ErrorCode::internal:
       return {grpc::StatusCode::INTERNAL, e.what()};
   }
   return {grpc::StatusCode::UNKNOWN, e.what()};
@@ -36,7 +37,7 @@ template <typename F>
 grpc::Status guarded(F&& body) {
   try {
     return body();
-  } catch (const ServiceError& e) {
+  } catch (const wire::ServiceError& e) {
     return to_status(e);
   } catch (const std::exception& e) {
     spdlog::error("internal error: {}", e.what());
@@ -75,16 +76,17 @@ grpc::Status MeshService::SubmitJob(grpc::ServerContext* context,
     const v1::JobSpec spec = message.spec();
     // The header is checked before the data is read: a bad or oversized upload is refused at
     // once instead of after gigabytes.
-    if (!spec.has_image()) throw ServiceError(ErrorCode::invalid_argument, "spec.image is missing");
-    const std::uint64_t expected = check_header(spec.image());
+    if (!spec.has_image())
+      throw wire::ServiceError(wire::ErrorCode::invalid_argument, "spec.image is missing");
+    const std::uint64_t expected = wire::check_header(spec.image());
     std::string data;
     while (reader->Read(&message)) {
       if (message.has_spec())
-        throw ServiceError(ErrorCode::invalid_argument, "the job spec was sent twice");
+        throw wire::ServiceError(wire::ErrorCode::invalid_argument, "the job spec was sent twice");
       if (data.size() + message.chunk().size() > expected)
-        throw ServiceError(ErrorCode::invalid_argument,
-                           "more label data than image.byte_size announced (" +
-                               std::to_string(expected) + " bytes)");
+        throw wire::ServiceError(wire::ErrorCode::invalid_argument,
+                                 "more label data than image.byte_size announced (" +
+                                     std::to_string(expected) + " bytes)");
       if (data.empty()) data.reserve(expected);
       data += message.chunk();
     }
@@ -164,9 +166,7 @@ grpc::Status MeshService::GetResult(grpc::ServerContext* context,
     *header->mutable_stats() = result.job.stats();
     for (const auto& w : result.job.warnings()) header->add_warnings(w);
     header->set_byte_size(result.mesh.size());
-    const auto digest =
-        mesh::sha256(reinterpret_cast<const std::uint8_t*>(result.mesh.data()), result.mesh.size());
-    header->set_sha256(std::string(reinterpret_cast<const char*>(digest.data()), digest.size()));
+    header->set_sha256(wire::sha256(result.mesh));
     if (!writer->Write(message)) return grpc::Status(grpc::StatusCode::CANCELLED, "reader left");
     for (std::size_t at = 0; at < result.mesh.size(); at += kResultChunk) {
       message.Clear();

@@ -1,5 +1,5 @@
 // The gRPC face of the job service (mesh4d.v1.MeshService): decodes requests, calls the
-// JobManager, maps ServiceError to status codes. No job logic lives here.
+// JobManager, maps wire::ServiceError to status codes. No job logic lives here.
 #pragma once
 
 #include <string>

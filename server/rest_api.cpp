@@ -20,7 +20,8 @@
 #include "mesh/mesh_slice.h"
 #include "mesh/vtu_writer.h"
 #include "rest_upload.h"
-#include "service_error.h"
+#include "wire/digest.h"
+#include "wire/service_error.h"
 
 namespace mesh4d::server {
 namespace {
@@ -34,19 +35,19 @@ struct HttpError {
 
 // The standard mapping of gRPC codes to HTTP statuses (google.rpc.Code), so that a REST error
 // and a gRPC error of the same call say the same thing.
-HttpError to_http(const ServiceError& e) {
+HttpError to_http(const wire::ServiceError& e) {
   switch (e.code()) {
-    case ErrorCode::invalid_argument:
+    case wire::ErrorCode::invalid_argument:
       return {400, "INVALID_ARGUMENT", e.what()};
-    case ErrorCode::not_found:
+    case wire::ErrorCode::not_found:
       return {404, "NOT_FOUND", e.what()};
-    case ErrorCode::failed_precondition:
+    case wire::ErrorCode::failed_precondition:
       return {400, "FAILED_PRECONDITION", e.what()};
-    case ErrorCode::cancelled:
+    case wire::ErrorCode::cancelled:
       return {499, "CANCELLED", e.what()};
-    case ErrorCode::resource_exhausted:
+    case wire::ErrorCode::resource_exhausted:
       return {429, "RESOURCE_EXHAUSTED", e.what()};
-    case ErrorCode::internal:
+    case wire::ErrorCode::internal:
       return {500, "INTERNAL", e.what()};
   }
   return {500, "UNKNOWN", e.what()};
@@ -185,7 +186,7 @@ class RestApi::Handler : public CivetHandler {
     const auto query = query_of(ri);
     try {
       route(c, method, uri, query);
-    } catch (const ServiceError& e) {
+    } catch (const wire::ServiceError& e) {
       send_error(c, to_http(e));
     } catch (const HttpError& e) {
       send_error(c, e);
@@ -271,8 +272,8 @@ class RestApi::Handler : public CivetHandler {
       for (char& ch : upper) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
       if (upper.rfind("JOB_STATE_", 0) != 0) upper = "JOB_STATE_" + upper;
       if (!v1::JobState_Parse(upper, &state))
-        throw ServiceError(
-            ErrorCode::invalid_argument,
+        throw wire::ServiceError(
+            wire::ErrorCode::invalid_argument,
             "unknown state '" + it->second + "' (queued, running, succeeded, failed, cancelled)");
     }
     std::uint32_t page_size = 0;
@@ -280,8 +281,8 @@ class RestApi::Handler : public CivetHandler {
       char* end = nullptr;
       const unsigned long n = std::strtoul(it->second.c_str(), &end, 10);
       if (it->second.empty() || *end != '\0' || n > 100000)
-        throw ServiceError(ErrorCode::invalid_argument,
-                           "page_size '" + it->second + "' is not a count up to 100000");
+        throw wire::ServiceError(wire::ErrorCode::invalid_argument,
+                                 "page_size '" + it->second + "' is not a count up to 100000");
       page_size = static_cast<std::uint32_t>(n);
     }
     const auto token = query.count("page_token") ? query.at("page_token") : std::string();
@@ -295,9 +296,10 @@ class RestApi::Handler : public CivetHandler {
   void submit(mg_connection* c, const std::map<std::string, std::string>& query) {
     const mg_request_info* ri = mg_get_request_info(c);
     if (ri->content_length > 0 && static_cast<std::uint64_t>(ri->content_length) > max_body_)
-      throw ServiceError(ErrorCode::resource_exhausted,
-                         "the upload (" + std::to_string(ri->content_length) +
-                             " bytes) is over the server's limit of " + std::to_string(max_body_));
+      throw wire::ServiceError(wire::ErrorCode::resource_exhausted,
+                               "the upload (" + std::to_string(ri->content_length) +
+                                   " bytes) is over the server's limit of " +
+                                   std::to_string(max_body_));
     const char* type = mg_get_header(c, "Content-Type");
     Form form;
     form.limit = max_body_;
@@ -389,15 +391,18 @@ class RestApi::Handler : public CivetHandler {
     std::filesystem::remove(file, ignored);
     if (form.too_big) throw too_big();
     if (handled < 0)
-      throw ServiceError(ErrorCode::invalid_argument, "the multipart body could not be read");
+      throw wire::ServiceError(wire::ErrorCode::invalid_argument,
+                               "the multipart body could not be read");
     if (form.image.empty())
-      throw ServiceError(ErrorCode::invalid_argument,
-                         "a multipart submission needs an \"image\" part (curl -F image=@FILE)");
+      throw wire::ServiceError(
+          wire::ErrorCode::invalid_argument,
+          "a multipart submission needs an \"image\" part (curl -F image=@FILE)");
   }
 
-  ServiceError too_big() const {
-    return ServiceError(ErrorCode::resource_exhausted, "the upload is over the server's limit of " +
-                                                           std::to_string(max_body_) + " bytes");
+  wire::ServiceError too_big() const {
+    return wire::ServiceError(
+        wire::ErrorCode::resource_exhausted,
+        "the upload is over the server's limit of " + std::to_string(max_body_) + " bytes");
   }
 
   // Server-Sent Events: the same events as WatchJob, one per message ("event:" its kind,
@@ -443,8 +448,7 @@ class RestApi::Handler : public CivetHandler {
 
   void mesh(mg_connection* c, const std::string& id) {
     const auto result = jobs_.result(id);
-    const std::string digest = mesh::sha256_hex(
-        reinterpret_cast<const std::uint8_t*>(result.mesh.data()), result.mesh.size());
+    const std::string digest = wire::sha256_hex(result.mesh);
     send(c, 200, "application/octet-stream", result.mesh,
          "Content-Disposition: attachment; filename=\"" + id +
              ".m4d\"\r\nX-Mesh4d-SHA256: " + digest + "\r\n");
@@ -456,14 +460,14 @@ class RestApi::Handler : public CivetHandler {
     const std::string suffix = ".vtu";
     if (file.size() <= suffix.size() ||
         file.compare(file.size() - suffix.size(), suffix.size(), suffix) != 0)
-      throw ServiceError(ErrorCode::invalid_argument,
-                         "a slice is named by its time: /slices/{t}.vtu, not " + file);
+      throw wire::ServiceError(wire::ErrorCode::invalid_argument,
+                               "a slice is named by its time: /slices/{t}.vtu, not " + file);
     const std::string t_text = file.substr(0, file.size() - suffix.size());
     char* end = nullptr;
     const double t = std::strtod(t_text.c_str(), &end);
     if (*end != '\0' || !std::isfinite(t))
-      throw ServiceError(ErrorCode::invalid_argument,
-                         "slice time '" + t_text + "' is not a number");
+      throw wire::ServiceError(wire::ErrorCode::invalid_argument,
+                               "slice time '" + t_text + "' is not a number");
     const bool boundary = query.count("boundary") && query.at("boundary") != "0";
     const std::string vtu = on_full_stack([&] {
       const auto result = jobs_.result(id);

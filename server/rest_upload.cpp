@@ -1,6 +1,5 @@
 #include "rest_upload.h"
 
-#include <google/protobuf/util/json_util.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -11,8 +10,9 @@
 #include <random>
 
 #include "domain/image_io.h"
-#include "service_error.h"
-#include "upload_encoding.h"
+#include "wire/params_json.h"
+#include "wire/service_error.h"
+#include "wire/upload_codec.h"
 
 namespace mesh4d::server {
 namespace {
@@ -22,8 +22,8 @@ std::string file_suffix(const std::string& body, const std::map<std::string, std
   if (const auto it = query.find("format"); it != query.end()) {
     for (const char* known : {"nii", "nii.gz", "nrrd", "nhdr", "mha", "mhd"})
       if (it->second == known) return std::string(".") + known;
-    throw ServiceError(ErrorCode::invalid_argument,
-                       "format '" + it->second + "' is not one of nii, nii.gz, nrrd, mha");
+    throw wire::ServiceError(wire::ErrorCode::invalid_argument,
+                             "format '" + it->second + "' is not one of nii, nii.gz, nrrd, mha");
   }
   if (body.size() >= 2 && static_cast<unsigned char>(body[0]) == 0x1f &&
       static_cast<unsigned char>(body[1]) == 0x8b)
@@ -33,9 +33,10 @@ std::string file_suffix(const std::string& body, const std::map<std::string, std
   if (body.size() >= 348 && (body.compare(344, 4, std::string("n+1\0", 4)) == 0 ||
                              body.compare(344, 4, std::string("n+2\0", 4)) == 0))
     return ".nii";
-  throw ServiceError(ErrorCode::invalid_argument,
-                     "the body is not a NIfTI (.nii, .nii.gz), NRRD or MetaImage (.mha) image; "
-                     "send the file itself (curl --data-binary @FILE) or say ?format=");
+  throw wire::ServiceError(
+      wire::ErrorCode::invalid_argument,
+      "the body is not a NIfTI (.nii, .nii.gz), NRRD or MetaImage (.mha) image; "
+      "send the file itself (curl --data-binary @FILE) or say ?format=");
 }
 
 // The image file, for as long as ITK reads it.
@@ -49,7 +50,8 @@ class TemporaryFile {
     std::ofstream out(path_, std::ios::binary);
     out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
     if (!out.flush())
-      throw ServiceError(ErrorCode::internal, "cannot write the upload to " + path_.string());
+      throw wire::ServiceError(wire::ErrorCode::internal,
+                               "cannot write the upload to " + path_.string());
   }
   ~TemporaryFile() {
     std::error_code ignored;
@@ -79,21 +81,23 @@ RestUpload decode_rest_upload(const std::string& body,
                               const std::map<std::string, std::string>& query,
                               const std::string& params_json) {
   if (body.empty())
-    throw ServiceError(ErrorCode::invalid_argument,
-                       "the request has no body: send an image file (curl --data-binary @FILE)");
+    throw wire::ServiceError(
+        wire::ErrorCode::invalid_argument,
+        "the request has no body: send an image file (curl --data-binary @FILE)");
   RestUpload upload;
   const TemporaryFile file(body, file_suffix(body, query));
   try {
     const auto image = domain::read_label_image(file.path());
-    upload.data = client::encode_upload(image, upload.spec.mutable_image());
-  } catch (const ServiceError&) {
+    upload.data = wire::encode_upload(image, upload.spec.mutable_image());
+  } catch (const wire::ServiceError&) {
     throw;
   } catch (const std::exception& e) {
-    throw ServiceError(ErrorCode::invalid_argument,
-                       std::string("the body is not a readable label image: ") + e.what());
+    throw wire::ServiceError(wire::ErrorCode::invalid_argument,
+                             std::string("the body is not a readable label image: ") + e.what());
   }
-  // Every other query key is a RefineParams field: protobuf's JSON parser checks names, types
-  // and enum values, the job manager the ranges (as for gRPC).
+  // Every other query key is a RefineParams field, read by the parser that the client's
+  // --params file also goes through (names, types, enum values); the job manager checks the
+  // ranges, as for gRPC.
   nlohmann::json params = nlohmann::json::object();
   std::string json_text = params_json;
   if (const auto it = query.find("params"); it != query.end() && json_text.empty())
@@ -101,9 +105,9 @@ RestUpload decode_rest_upload(const std::string& body,
   if (!json_text.empty()) {
     params = nlohmann::json::parse(json_text, nullptr, false);
     if (!params.is_object())
-      throw ServiceError(ErrorCode::invalid_argument,
-                         "params must be a JSON object of RefineParams fields, e.g. "
-                         "{\"delta\": 5}");
+      throw wire::ServiceError(wire::ErrorCode::invalid_argument,
+                               "params must be a JSON object of RefineParams fields, e.g. "
+                               "{\"delta\": 5}");
   }
   for (const auto& [key, value] : query) {
     if (key == "params") continue;
@@ -115,24 +119,14 @@ RestUpload decode_rest_upload(const std::string& body,
       char* end = nullptr;
       const double t = std::strtod(value.c_str(), &end);
       if (value.empty() || end != value.c_str() + value.size())
-        throw ServiceError(ErrorCode::invalid_argument,
-                           "time_scale '" + value + "' is not a number");
+        throw wire::ServiceError(wire::ErrorCode::invalid_argument,
+                                 "time_scale '" + value + "' is not a number");
       upload.spec.mutable_image()->mutable_spacing()->set_t(t);
     } else if (key != "format" && key != "access_token") {
       params[key] = json_value(value);
     }
   }
-  // The short names of the rule orders, as the client's --params file takes them.
-  if (auto it = params.find("rule_order"); it != params.end() && it->is_string()) {
-    if (*it == "paper") *it = "RULE_ORDER_PAPER";
-    if (*it == "r3_first") *it = "RULE_ORDER_R3_FIRST";
-  }
-  google::protobuf::util::JsonParseOptions options;
-  const auto status = google::protobuf::util::JsonStringToMessage(
-      params.dump(), upload.spec.mutable_params(), options);
-  if (!status.ok())
-    throw ServiceError(ErrorCode::invalid_argument,
-                       "bad parameter: " + std::string(status.message()));
+  wire::read_params(params, upload.spec.mutable_params());
   return upload;
 }
 

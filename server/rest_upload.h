@@ -19,7 +19,7 @@ struct RestUpload {
 
 /// Decodes a body and its query parameters; `params_json` (from a multipart request's "params"
 /// part, or the "params" query key) is a JSON object of RefineParams fields that the other query
-/// keys override. Throws ServiceError(invalid_argument) with a message that names the bad
+/// keys override. Throws wire::ServiceError(invalid_argument) with a message that names the bad
 /// parameter or says what the body is not.
 RestUpload decode_rest_upload(const std::string& body,
                               const std::map<std::string, std::string>& query,

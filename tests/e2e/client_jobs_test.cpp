@@ -146,6 +146,14 @@ TEST(ClientJobs, SubmitTakesFramesParameterFilesAndFlags) {
   const RunResult bad = client({"submit", dir + "/sphere.nii.gz", "--params", dir + "/bad.json"});
   EXPECT_EQ(bad.exit_code, 6) << bad.output;
   EXPECT_NE(bad.output.find("unknown parameter 'deltaa'"), std::string::npos) << bad.output;
+  // An unknown rule order is refused as the REST face refuses it, not taken as R3 first.
+  std::ofstream(dir + "/order.json") << R"({"rule_order": "fastest"})";
+  const RunResult order =
+      client({"submit", dir + "/sphere.nii.gz", "--params", dir + "/order.json"});
+  EXPECT_EQ(order.exit_code, 6) << order.output;
+  EXPECT_NE(order.output.find("rule_order 'fastest' is not one of r3_first, paper"),
+            std::string::npos)
+      << order.output;
   const RunResult rho = client({"submit", dir + "/sphere.nii.gz", "--rho", "0.1"});
   EXPECT_EQ(rho.exit_code, 4) << rho.output;
   EXPECT_NE(rho.output.find("radius_edge_bound = 0.1 is out of range"), std::string::npos)

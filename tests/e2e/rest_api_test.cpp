@@ -226,6 +226,8 @@ TEST(RestApi, EveryErrorOfTheGrpcTableHasItsHttpStatus) {
       {"time extension over 64", "/v1/jobs?extend_time_frames=100", body(sphere), 400,
        "INVALID_ARGUMENT", "extend_time_frames"},
       {"unknown parameter", "/v1/jobs?deltaa=3", body(sphere), 400, "INVALID_ARGUMENT", "deltaa"},
+      {"unknown rule order", "/v1/jobs?rule_order=fastest", body(sphere), 400, "INVALID_ARGUMENT",
+       "rule_order 'fastest' is not one of r3_first, paper"},
       {"unknown format", "/v1/jobs?format=png", body(sphere), 400, "INVALID_ARGUMENT", "png"},
       {"params not an object",
        "/v1/jobs",

@@ -3,7 +3,8 @@
 #include <sstream>
 #include <thread>
 
-#include "upload_encoding.h"
+#include "wire/submit_stream.h"
+#include "wire/upload_codec.h"
 
 namespace mesh4d::testing {
 
@@ -32,7 +33,7 @@ std::unique_ptr<v1::MeshService::Stub> RunningServer::stub() const {
 
 Upload make_upload(const domain::LabelImage4& image, double delta, const std::string& request_id) {
   Upload u;
-  u.data = client::encode_upload(image, u.spec.mutable_image());
+  u.data = wire::encode_upload(image, u.spec.mutable_image());
   u.spec.mutable_params()->set_delta(delta);
   u.spec.set_request_id(request_id);
   return u;
@@ -43,17 +44,8 @@ grpc::Status submit(v1::MeshService::Stub& stub, const v1::JobSpec& spec, const 
   grpc::ClientContext context;
   context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(60));
   if (!token.empty()) context.AddMetadata("authorization", "Bearer " + token);
-  auto writer = stub.SubmitJob(&context, response);
-  v1::SubmitJobRequest message;
-  *message.mutable_spec() = spec;
-  bool ok = writer->Write(message);
-  for (std::size_t at = 0; ok && at < data.size(); at += 1 << 16) {
-    message.Clear();
-    message.set_chunk(data.substr(at, 1 << 16));
-    ok = writer->Write(message);
-  }
-  writer->WritesDone();
-  return writer->Finish();
+  // Small chunks: a test's upload crosses many messages.
+  return wire::submit_job(stub, context, spec, data, response, 1 << 16);
 }
 
 v1::Job wait_until_done(v1::MeshService::Stub& stub, const std::string& id,

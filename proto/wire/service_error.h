@@ -1,11 +1,11 @@
 // The job service's errors, independent of the transport: the gRPC service maps them to status
-// codes and the REST face (issue 9) to HTTP statuses, from this one list.
+// codes and the REST face to HTTP statuses, from this one list; the wire codecs throw them.
 #pragma once
 
 #include <stdexcept>
 #include <string>
 
-namespace mesh4d::server {
+namespace mesh4d::wire {
 
 enum class ErrorCode {
   invalid_argument,     // bad header, size or checksum mismatch, bad parameters
@@ -26,4 +26,4 @@ class ServiceError : public std::runtime_error {
   ErrorCode code_;
 };
 
-}  // namespace mesh4d::server
+}  // namespace mesh4d::wire

@@ -1,14 +1,14 @@
-#include "upload_check.h"
+#include "wire/upload_codec.h"
 
 #include <cmath>
 #include <limits>
 #include <sstream>
 
 #include "domain/time_extension.h"
-#include "mesh/mesh_io.h"
-#include "service_error.h"
+#include "wire/digest.h"
+#include "wire/service_error.h"
 
-namespace mesh4d::server {
+namespace mesh4d::wire {
 namespace {
 
 [[noreturn]] void bad(const std::string& message) {
@@ -29,6 +29,34 @@ domain::LabelType engine_type(v1::LabelType type) {
 }
 
 }  // namespace
+
+std::string encode_upload(const domain::LabelImage4& image, v1::ImageHeader* h) {
+  const auto labels = image.labels();
+  const bool wide = !labels.empty() && labels.back() > 255;
+  std::string raw(image.voxel_count() * (wide ? 2 : 1), '\0');
+  for (std::size_t i = 0; i < image.voxel_count(); ++i) {
+    const auto l = image.at(i);
+    if (wide) {
+      raw[2 * i] = static_cast<char>(l & 0xFF);
+      raw[2 * i + 1] = static_cast<char>(l >> 8);
+    } else {
+      raw[i] = static_cast<char>(l);
+    }
+  }
+  const auto& d = image.dims();
+  h->mutable_dims()->set_x(d[0]), h->mutable_dims()->set_y(d[1]);
+  h->mutable_dims()->set_z(d[2]), h->mutable_dims()->set_t(d[3]);
+  const auto& s = image.spacing();
+  h->mutable_spacing()->set_x(s[0]), h->mutable_spacing()->set_y(s[1]);
+  h->mutable_spacing()->set_z(s[2]), h->mutable_spacing()->set_t(s[3]);
+  const auto& org = image.origin();
+  h->mutable_origin()->set_x(org[0]), h->mutable_origin()->set_y(org[1]);
+  h->mutable_origin()->set_z(org[2]), h->mutable_origin()->set_t(org[3]);
+  h->set_label_type(wide ? v1::LABEL_TYPE_UINT16 : v1::LABEL_TYPE_UINT8);
+  h->set_byte_size(raw.size());
+  h->set_sha256(sha256(raw));
+  return raw;
+}
 
 std::size_t label_bytes(v1::LabelType type) {
   return engine_type(type) == domain::LabelType::uint8 ? 1 : 2;
@@ -73,8 +101,7 @@ domain::LabelImage4 decode_upload(const v1::ImageHeader& h, std::string_view dat
     m << "received " << data.size() << " bytes of label data, the header announced " << expected;
     bad(m.str());
   }
-  const auto digest = mesh::sha256(reinterpret_cast<const std::uint8_t*>(data.data()), data.size());
-  if (std::string_view(reinterpret_cast<const char*>(digest.data()), digest.size()) != h.sha256())
+  if (sha256(data) != h.sha256())
     bad("the label data does not match image.sha256 (corrupted upload?)");
   try {
     auto image = domain::LabelImage4::from_raw(
@@ -97,4 +124,4 @@ domain::LabelImage4 decode_upload(const v1::ImageHeader& h, std::string_view dat
   }
 }
 
-}  // namespace mesh4d::server
+}  // namespace mesh4d::wire
