@@ -21,6 +21,7 @@ namespace {
 using google::protobuf::util::TimeUtil;
 
 constexpr std::size_t kEventLog = 512;  // events kept per job for watchers that fall behind
+constexpr auto kWatchPoll = std::chrono::milliseconds(500);  // watch() asks `cancelled` this often
 
 bool terminal(v1::JobState s) {
   return s == v1::JOB_STATE_SUCCEEDED || s == v1::JOB_STATE_FAILED || s == v1::JOB_STATE_CANCELLED;
@@ -354,6 +355,36 @@ bool JobManager::wait(const std::string& id, std::uint64_t after,
     }
     if (changed_.wait_until(lock, deadline) == std::cv_status::timeout) return true;
   }
+}
+
+JobManager::WatchEnd JobManager::watch(const std::string& id, std::uint64_t after,
+                                       const std::function<bool(const v1::JobEvent&)>& on_event,
+                                       const std::function<bool()>& cancelled) const {
+  const auto ends = [](const v1::JobEvent& e) {
+    return (e.has_snapshot() && terminal(e.snapshot().state())) ||
+           (e.event_case() == v1::JobEvent::kState && terminal(e.state()));
+  };
+  const v1::JobEvent first = snapshot(id);  // throws not_found
+  std::uint64_t seen = after;
+  if (after == 0 || after > first.sequence()) {
+    if (!on_event(first)) return WatchEnd::watcher_left;
+    if (ends(first)) return WatchEnd::job_ended;
+    seen = first.sequence();
+  } else if (after == first.sequence() && ends(first)) {
+    return WatchEnd::job_ended;  // the watcher saw the last event already
+  }
+  std::vector<v1::JobEvent> events;
+  while (!cancelled()) {
+    events.clear();
+    const auto deadline = std::chrono::steady_clock::now() + kWatchPoll;
+    if (!wait(id, seen, deadline, &events)) return WatchEnd::job_deleted;
+    for (const auto& e : events) {
+      if (!on_event(e)) return WatchEnd::watcher_left;
+      seen = e.sequence();
+      if (ends(e)) return WatchEnd::job_ended;
+    }
+  }
+  return WatchEnd::watcher_left;
 }
 
 std::map<v1::JobState, std::size_t> JobManager::count_by_state() const {

@@ -70,12 +70,17 @@ class JobManager {
   };
   Result result(const std::string& id) const;
 
-  /// Watching: `snapshot` gives the whole job as an event numbered with the job's latest event;
-  /// `wait` returns the events after `after` (waiting until `deadline` when there are none), or
-  /// a new snapshot when the log no longer holds them. False when the job is gone.
-  v1::JobEvent snapshot(const std::string& id) const;
-  bool wait(const std::string& id, std::uint64_t after,
-            std::chrono::steady_clock::time_point deadline, std::vector<v1::JobEvent>* out) const;
+  /// How a watch ended: the job reached a final state, it was deleted, or the watcher left
+  /// (on_event returned false, or `cancelled` true).
+  enum class WatchEnd { job_ended, job_deleted, watcher_left };
+  /// Follows a job for every face: with `after` 0, its whole state first (a snapshot event
+  /// numbered with its latest event), then each event after it, until the job ends; with
+  /// `after` the sequence of the last event a watcher saw, the events after that one (a new
+  /// snapshot when the log no longer holds them). `cancelled` is asked between events, at
+  /// least every half second. Throws ServiceError(not_found) for an unknown job.
+  WatchEnd watch(const std::string& id, std::uint64_t after,
+                 const std::function<bool(const v1::JobEvent&)>& on_event,
+                 const std::function<bool()>& cancelled) const;
 
   /// Counts by state, and the queue depth (for metrics).
   std::map<v1::JobState, std::size_t> count_by_state() const;
@@ -89,6 +94,12 @@ class JobManager {
   };
   class Sink;
 
+  // The whole job as an event numbered with its latest event.
+  v1::JobEvent snapshot(const std::string& id) const;
+  // The events after `after` (waiting until `deadline` when there are none), or a new snapshot
+  // when the log no longer holds them. False when the job is gone.
+  bool wait(const std::string& id, std::uint64_t after,
+            std::chrono::steady_clock::time_point deadline, std::vector<v1::JobEvent>* out) const;
   Entry& find(const std::string& id) const;      // throws not_found; with mu_ held
   void publish(Entry& e, v1::JobEvent event);    // with mu_ held
   void set_state(Entry& e, v1::JobState state);  // with mu_ held: persists, publishes

@@ -45,10 +45,6 @@ grpc::Status guarded(F&& body) {
   }
 }
 
-bool terminal(v1::JobState s) {
-  return s == v1::JOB_STATE_SUCCEEDED || s == v1::JOB_STATE_FAILED || s == v1::JOB_STATE_CANCELLED;
-}
-
 }  // namespace
 
 grpc::Status MeshService::authorize(const grpc::ServerContext* context) const {
@@ -113,23 +109,15 @@ grpc::Status MeshService::WatchJob(grpc::ServerContext* context, const v1::Watch
   if (auto s = authorize(context); !s.ok()) return s;
   return guarded([&] {
     // The current state first, then every event after it until the job ends.
-    const v1::JobEvent first = jobs_.snapshot(request->job_id());
-    if (!writer->Write(first)) return grpc::Status(grpc::StatusCode::CANCELLED, "watcher left");
-    if (terminal(first.snapshot().state())) return grpc::Status::OK;
-    std::uint64_t seen = first.sequence();
-    std::vector<v1::JobEvent> events;
-    while (!context->IsCancelled()) {
-      events.clear();
-      const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(500);
-      if (!jobs_.wait(request->job_id(), seen, deadline, &events))
+    switch (jobs_.watch(
+        request->job_id(), 0, [&](const v1::JobEvent& e) { return writer->Write(e); },
+        [&] { return context->IsCancelled(); })) {
+      case JobManager::WatchEnd::job_ended:
+        return grpc::Status::OK;
+      case JobManager::WatchEnd::job_deleted:
         return grpc::Status(grpc::StatusCode::NOT_FOUND, "the job was deleted");
-      for (const auto& e : events) {
-        if (!writer->Write(e)) return grpc::Status(grpc::StatusCode::CANCELLED, "watcher left");
-        seen = e.sequence();
-        const bool ended = (e.has_snapshot() && terminal(e.snapshot().state())) ||
-                           (e.event_case() == v1::JobEvent::kState && terminal(e.state()));
-        if (ended) return grpc::Status::OK;
-      }
+      case JobManager::WatchEnd::watcher_left:
+        break;
     }
     return grpc::Status(grpc::StatusCode::CANCELLED, "the watcher went away");
   });

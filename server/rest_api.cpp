@@ -148,10 +148,6 @@ auto on_full_stack(F&& work) {
   return std::async(std::launch::async, std::forward<F>(work)).get();
 }
 
-bool terminal(v1::JobState s) {
-  return s == v1::JOB_STATE_SUCCEEDED || s == v1::JOB_STATE_FAILED || s == v1::JOB_STATE_CANCELLED;
-}
-
 const char* event_name(const v1::JobEvent& e) {
   switch (e.event_case()) {
     case v1::JobEvent::kSnapshot:
@@ -406,43 +402,41 @@ class RestApi::Handler : public CivetHandler {
   }
 
   // Server-Sent Events: the same events as WatchJob, one per message ("event:" its kind,
-  // "id:" its sequence, "data:" the JobEvent as JSON), until the job ends.
+  // "id:" its sequence, "data:" the JobEvent as JSON), until the job ends. A reconnecting
+  // EventSource sends Last-Event-ID and gets the events after it.
   void events(mg_connection* c, const std::string& id) {
-    const v1::JobEvent first = jobs_.snapshot(id);  // an unknown id is a plain 404 before this
-    mg_printf(c,
-              "HTTP/1.1 200 OK\r\nContent-Type: text/event-stream\r\nCache-Control: no-store\r\n"
-              "Connection: close\r\n\r\n");
-    const auto write = [c](const v1::JobEvent& e) {
+    std::uint64_t after = 0;
+    if (const char* last = mg_get_header(c, "Last-Event-ID")) {
+      char* end = nullptr;
+      const unsigned long long n = std::strtoull(last, &end, 10);
+      if (end != last && *end == '\0') after = n;
+    }
+    bool started = false;
+    int quiet = 0;  // half-second waits without an event
+    const auto write = [&](const v1::JobEvent& e) {
+      if (!started) {  // an unknown id threw before this: a plain 404
+        mg_printf(c,
+                  "HTTP/1.1 200 OK\r\nContent-Type: text/event-stream\r\n"
+                  "Cache-Control: no-store\r\nConnection: close\r\n\r\n");
+        started = true;
+      }
+      quiet = 0;
       const std::string message = "event: " + std::string(event_name(e)) +
                                   "\nid: " + std::to_string(e.sequence()) +
                                   "\ndata: " + to_json(e) + "\n\n";
       return mg_write(c, message.data(), message.size()) > 0;
     };
-    if (!write(first) || terminal(first.snapshot().state())) return;
-    std::uint64_t seen = first.sequence();
-    std::vector<v1::JobEvent> batch;
-    for (int quiet = 0;; ++quiet) {
-      batch.clear();
-      const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(500);
-      if (!jobs_.wait(id, seen, deadline, &batch)) {
-        const std::string gone =
-            "event: error\ndata: " +
-            nlohmann::json{{"code", "NOT_FOUND"}, {"message", "the job was deleted"}}.dump() +
-            "\n\n";
-        mg_write(c, gone.data(), gone.size());
-        return;
-      }
-      for (const auto& e : batch) {
-        if (!write(e)) return;  // the reader left
-        seen = e.sequence();
-        if ((e.has_snapshot() && terminal(e.snapshot().state())) ||
-            (e.event_case() == v1::JobEvent::kState && terminal(e.state())))
-          return;
-        quiet = 0;
-      }
-      // A comment now and then: finds a reader that left while nothing happened.
-      if (quiet >= 20 && mg_write(c, ":\n\n", 3) <= 0) return;
-      if (quiet >= 20) quiet = 0;
+    // A comment now and then finds a reader that left while nothing happened.
+    const auto reader_left = [&] {
+      if (++quiet < 20) return false;
+      quiet = 0;
+      return mg_write(c, ":\n\n", 3) <= 0;
+    };
+    if (jobs_.watch(id, after, write, reader_left) == JobManager::WatchEnd::job_deleted) {
+      const std::string gone =
+          "event: error\ndata: " +
+          nlohmann::json{{"code", "NOT_FOUND"}, {"message", "the job was deleted"}}.dump() + "\n\n";
+      mg_write(c, gone.data(), gone.size());
     }
   }
 
