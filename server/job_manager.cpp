@@ -67,8 +67,9 @@ class JobManager::Sink : public refine::ProgressSink {
   Entry& entry_;
 };
 
-JobManager::JobManager(JobStore& store, ManagerConfig config, JobObserver* observer)
-    : store_(store), config_(config), observer_(observer) {}
+JobManager::JobManager(JobStore& store, ManagerConfig config, JobObserver* observer,
+                       JobRunner runner)
+    : store_(store), config_(config), observer_(observer), runner_(std::move(runner)) {}
 
 JobManager::~JobManager() {
   {
@@ -447,7 +448,7 @@ void JobManager::run(const std::string& id) {
   v1::JobState end = v1::JOB_STATE_FAILED;
   try {
     const std::string input = store_.read_input(id);
-    JobOutcome outcome = run_job(header, params, extend_time_frames, input, sink);
+    JobOutcome outcome = runner_(header, params, extend_time_frames, input, sink);
     store_.save_result(id, outcome.mesh);
     std::lock_guard lock(mu_);
     *entry->job.mutable_stats() = to_proto(outcome.stats);

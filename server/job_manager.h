@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "job_runner.h"
 #include "job_store.h"
 #include "mesh4d/v1/mesh4d.pb.h"
 
@@ -40,7 +41,9 @@ struct JobObserver {
 
 class JobManager {
  public:
-  JobManager(JobStore& store, ManagerConfig config, JobObserver* observer = nullptr);
+  /// `runner` meshes each job (run_job; tests give a stand-in).
+  JobManager(JobStore& store, ManagerConfig config, JobObserver* observer = nullptr,
+             JobRunner runner = run_job);
   ~JobManager();  // stops the runners; running jobs stay RUNNING on disk and resume at restart
 
   /// Loads the store: finished jobs are served again, queued and running ones re-queued.
@@ -111,6 +114,7 @@ class JobManager {
   JobStore& store_;
   ManagerConfig config_;
   JobObserver* observer_;
+  JobRunner runner_;
   mutable std::mutex mu_;
   mutable std::condition_variable changed_;  // any event, queue change or stop
   std::map<std::string, std::unique_ptr<Entry>> jobs_;

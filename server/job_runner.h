@@ -3,6 +3,7 @@
 // the engine's ProgressSink.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -26,5 +27,8 @@ struct JobOutcome {
 JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& params,
                    std::size_t extend_time_frames, std::string_view input,
                    refine::ProgressSink& sink);
+
+/// What runs a job: run_job, or a stand-in in the job manager's tests.
+using JobRunner = std::function<decltype(run_job)>;
 
 }  // namespace mesh4d::server
