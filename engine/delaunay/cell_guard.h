@@ -1,6 +1,6 @@
 // How a concurrent operation on the shared triangulation claims the pentatopes it touches.
 //
-// The rule every thread follows (the parallel refiner's locking, ALGORITHM.md "Parallel
+// The rule every thread follows (the parallel refiner's locking, docs/algorithm.md, "Parallel
 // refinement"): it reads or writes a pentatope only while it holds at least four of the
 // pentatope's vertices, and reads the pentatope's neighbors only while it holds all five. Two
 // threads can never both hold four vertices of one pentatope, so no pentatope is ever read

@@ -1,5 +1,6 @@
-// Measures of a pentatope in double precision (ALGORITHM.md, "Measures"). These decide quality,
-// not topology, so they need robustness (pivoting, no catastrophic formulas), not exactness.
+// Measures of a pentatope in double precision (docs/algorithm.md, "Measures"). These decide
+// quality, not topology, so they need robustness (pivoting, no catastrophic formulas), not
+// exactness.
 #pragma once
 
 #include <array>

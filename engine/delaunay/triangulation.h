@@ -1,7 +1,7 @@
 // A 4D Delaunay triangulation: point location, Bowyer–Watson insertion and vertex removal, with
 // exact predicates and a symbolic tie-break, so that every pentatope is positively oriented and
 // the triangulation is the unique Delaunay triangulation of its vertices under the perturbation
-// of predicates.h (ALGORITHM.md, "Kernel").
+// of predicates.h (docs/algorithm.md, "Kernel").
 //
 // The convex hull is closed by an infinite vertex (id 0), as in CGAL: each hull facet forms an
 // infinite pentatope with it. Orientation of an infinite pentatope: a point beyond its hull facet,

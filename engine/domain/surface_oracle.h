@@ -1,5 +1,5 @@
-// The refiner's questions to the image (ALGORITHM.md, "Input and the domain"): which label is at
-// x, where the hyper-surface ∂Ω crosses a segment, and which point of ∂Ω is closest to x (cfp).
+// The refiner's questions to the image (docs/algorithm.md, "Input and the domain"): which label is
+// at x, where the hyper-surface ∂Ω crosses a segment, and which point of ∂Ω is closest to x (cfp).
 //
 // The label function: for each label L, I_L(x) is the multilinear interpolation (16 voxel
 // centers around x) of the indicator "voxel has label L", with background outside the image,

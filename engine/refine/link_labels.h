@@ -1,4 +1,4 @@
-// The labels of the pentatopes around a triangle, read as a cycle (refiner_relabel.cpp): a
+// The labels of the pentatopes around a triangle, read as a cycle (relabeling.cpp): a
 // label's region is pinched at the triangle when it occupies two or more separate arcs of it.
 // Pure functions on label sequences, so that the relabeling's choices can be tested alone.
 #pragma once

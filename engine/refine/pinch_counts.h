@@ -1,6 +1,6 @@
 // How many of each region's boundary facets contain each triangle, kept up to date from the
 // facets that appear and disappear, so that the pinch repair's rounds can count pinches
-// without walking around every triangle that changed (refiner_junctions.cpp).
+// without walking around every triangle that changed (pinch_repair.cpp, facet_log.cpp).
 //
 // A region-boundary facet separates two pentatopes of different output labels; it is a
 // boundary facet of each side's region, except the background's (label 0). A triangle is

@@ -1,4 +1,5 @@
-// Parameters of Delaunay refinement (ALGORITHM.md, "Refinement"), with their defaults and checks.
+// Parameters of Delaunay refinement (docs/algorithm.md, "Refinement"), with their defaults and
+// checks.
 #pragma once
 
 #include <cstdint>
@@ -22,10 +23,11 @@ struct RefineParams {
   std::uint64_t seed = 1;  // of the random picking: same seed and 1 thread, same mesh
   std::uint64_t vertex_budget = 5'000'000;  // refinement stops with an error past this
   // Where three labels meet, sample their junction first, points this far apart relative to Δ
-  // (refiner_junctions.cpp). Off by default: on the patients it did not reduce the pinches (most
-  // are on the cavity-myocardium interface, away from junctions; docs/performance.md).
+  // (RefinementState::insert_junctions). Off by default: on the patients it did not reduce the
+  // pinches (most are on the cavity-myocardium interface, away from junctions;
+  // docs/performance.md, "Tried and dropped").
   double junction_spacing = 0;
-  // Worker threads sharing the triangulation (refiner_parallel.cpp); 1: the sequential path.
+  // Worker threads sharing the triangulation (parallel_refiner.cpp); 1: the sequential path.
   unsigned threads = 1;
 };
 

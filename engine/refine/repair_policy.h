@@ -1,4 +1,4 @@
-// When the pinch repair (refiner_junctions.cpp) goes on, moves to a finer spacing, or stops.
+// When the pinch repair (pinch_repair.cpp) goes on, moves to a finer spacing, or stops.
 //
 // The repair inserts surface points around pinched triangles, none closer than a spacing to a
 // sampled point (Δ/2 first, then halved when nothing else can go in), and lets the rules run
@@ -28,7 +28,7 @@ class RepairPolicy {
   /// A finer level must pay: its first round must not raise the count, within its first
   /// kTrialRounds the count must fall below kTrialShare of its first one, and a level that
   /// stalls must have brought it below kFinerShare of its first one for a finer level to be
-  /// tried; otherwise the repair stops. (Session 11, the fourteen bench rows: the finer levels
+  /// tried; otherwise the repair stops. (On the fourteen refine_bench rows: the finer levels
   /// whose count fell below 90 % of their start, the ventricle's and Pat02's at the files'
   /// spacing, did not rise in their first round and were below 95 % by their second; Pat01's
   /// at the files' spacing bottomed out at 93 %, and the Δ/8 level after it grew by 31 %; the

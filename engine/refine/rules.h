@@ -1,5 +1,5 @@
-// The rules R1–R5 and the interior sizing bound (docs/algorithm.md, "Rules"; the paper's §4):
-// which one a pentatope calls for, and the point whose insertion applies it. R4 and R5 choose
+// The rules R1–R5 and the interior sizing bound (docs/algorithm.md, "Rules"; the paper's Section
+// 3): which one a pentatope calls for, and the point whose insertion applies it. R4 and R5 choose
 // that point in a picking region, by the quality of the pentatopes each trial point would make.
 #pragma once
 

@@ -4,9 +4,10 @@
 // the hypersphere 0.4M of the 0.5M it queues, most of them dead by the time they are popped),
 // and a doubling vector copied all of them at each growth, held the old and the new buffer at
 // once and faulted in every new buffer's pages again: 1–3 % of the hypersphere's time
-// (docs/performance.md, session 16). Blocks never move and are kept when the stack shrinks, so a
-// push costs no copy and the pages are faulted in once, at the stack's peak. The blocks are a
-// ChunkedArray's (the triangulation's own storage); this adds the count and the stack's moves.
+// (docs/performance.md, "Sequential refinement"). Blocks never move and are kept when the stack
+// shrinks, so a push costs no copy and the pages are faulted in once, at the stack's peak. The
+// blocks are a ChunkedArray's (the triangulation's own storage); this adds the count and the
+// stack's moves.
 #pragma once
 
 #include <cstddef>

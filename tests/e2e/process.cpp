@@ -110,8 +110,8 @@ void keep_temp_dirs_if(bool (*keep)()) {
 
 std::string make_temp_dir(const std::string& prefix) {
   // Removed when the program ends, unless the predicate says keep them (a failed test's, to be
-  // looked at). Until session 14 they were never removed: a server's job store and meshes in
-  // each, some 75 GB of them in the development machine's /tmp after thirteen sessions.
+  // looked at): each holds a server's job store and meshes, and left behind they fill /tmp
+  // (75 GB once).
   struct Cleanup {
     std::vector<std::string> dirs;
     ~Cleanup() {

@@ -1,4 +1,4 @@
-// The parallel refiner (issue 6): with 1, 2, 4 and 8 threads, every phantom passes the checks of
+// The parallel refiner: with 1, 2, 4 and 8 threads, every phantom passes the checks of
 // the sequential refiner (validity, quality, fidelity, volume, components); more threads than
 // cores still finish (the contention manager); cancellation and the budget stop every worker.
 #include <gtest/gtest.h>
@@ -42,8 +42,8 @@ std::vector<PhantomCase> phantoms() {
   cases.push_back({"merging blobs", domain::merging_blobs_phantom(), 2.5, {0, 1}, 1, 0.8, 0.15});
   // Coarse (δ = 8 against 8 frames 2 apart): the sequential refiner meshes 16 % less than the
   // voxels of each label here, most of it at the padded time caps, hence 25 %. Distance (the
-  // sharp corners at the caps; refiner_test.cpp): over 28 runs with 2, 4 and 8 threads since
-  // session 8's repair change, median 0.50 δ and largest 0.70 δ, once 0.76 δ in CI, hence 1.0 δ.
+  // sharp corners at the caps; refiner_test.cpp): over 28 runs with 2, 4 and 8 threads with the
+  // repair starting at Δ/2, median 0.50 δ and largest 0.70 δ, once 0.76 δ in CI, hence 1.0 δ.
   cases.push_back({"beating ventricle",
                    domain::beating_ventricle_phantom({50, 50, 22, 8}, {3.54, 3.54, 12, 2}),
                    8,

@@ -18,7 +18,7 @@ double output_volume(const mesh::Mesh4& m, mesh::Label label = 0);
 /// 4-volume of a label's voxels.
 double voxel_volume(const domain::LabelImage4& image, domain::Label label);
 
-/// Fidelity (issue 5's checks): every boundary-tetrahedron vertex is a feature vertex lying on
+/// Fidelity (the refiner's promise): every boundary-tetrahedron vertex is a feature vertex lying on
 /// ∂Ω, that is, the two largest interpolated label indicators there are equal (to 1e-6); the
 /// boundary of every label's region is a closed 3-manifold: each of its triangles is in exactly
 /// two of the region's boundary tetrahedra (none odd, none pinched in four or more, also where

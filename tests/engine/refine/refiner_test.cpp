@@ -115,7 +115,7 @@ TEST(Refiner, VentricleGetsBothLabels) {
   // Where pool, wall and background meet at the padded time caps the surface has sharp
   // corners that a boundary of size-δ facets cuts across: over seeds 1–14 the largest distance
   // was 0.42–0.57 δ (means 0.08 δ), over 140 parallel runs 0.40–0.57 δ and once 0.645 δ. Since
-  // the pinch repair starts at Δ/2 (session 8) the tail is longer: over 28 parallel runs median
+  // the pinch repair starts at Δ/2 the tail is longer: over 28 parallel runs median
   // 0.50 δ, largest 0.70 δ, and once in CI 0.76 δ; hence 1.0 δ here. (The rules bound it only
   // loosely: a boundary tetrahedron lies in its surface ball, centered on ∂Ω and no larger than
   // the circumball of one of its two pentatopes, which meets ∂Ω and so is kept below 2Δ by R2.)

@@ -59,7 +59,7 @@ TEST(RepairPolicy, GrowthStopsOnlyAFinerLevel) {
 }
 
 TEST(RepairPolicy, AFinerLevelMustPayWithinTwoRounds) {
-  // Pat02 at the files' spacing (session 11): level after its first round, then down to 61 —
+  // Pat02 at the files' spacing: level after its first round, then down to 61 —
   // it goes on. Pat05 at the files' spacing: 398, then 472 — it stops at once (the repair went
   // on to 427, 440, 465, then a Δ/8 level at 599: 1.6 s for nothing). Pat03 at the paper's
   // spacing: 495, 494, 526 — a new low, but under 5 %.
@@ -77,7 +77,7 @@ TEST(RepairPolicy, AFinerLevelMustPayWithinTwoRounds) {
 }
 
 TEST(RepairPolicy, OnlyAFinerLevelThatCutTenPercentGoesFiner) {
-  // Pat01 at the files' spacing (session 11): 106, 99, then four rounds above 99 (93 % of the
+  // Pat01 at the files' spacing: 106, 99, then four rounds above 99 (93 % of the
   // start): stop, where a Δ/8 level went from 118 to 155. The first level goes finer anyway.
   RepairPolicy finer;
   finer.finer();
