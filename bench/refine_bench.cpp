@@ -24,6 +24,7 @@
 #include "domain/surface_oracle.h"
 #include "frames_comparison.h"
 #include "mesh/mesh_check.h"
+#include "mesh/topology_certificate.h"
 #include "refine/refiner.h"
 
 using namespace mesh4d;
@@ -43,6 +44,8 @@ using mesh4d::bench::status_kb;
 struct Flat {
   std::uint64_t vertices, pentatopes, boundary, insertions, off_surface, pinched, relabeled,
       fingerprint;
+  // The topology certificate, summed over the labels.
+  std::uint64_t pieces, touching, nm_vertices, nm_edges, nm_triangles;
   double shortest, rho_max, rho_mean, rho_std, tau_min, tau_mean, tau_std, seconds, peak_mb,
       repair_seconds;
   bool ok;
@@ -65,6 +68,11 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
              pinched,
              r.relabeled,
              mesh4d::bench::mesh_fingerprint(r.mesh),
+             0,
+             0,
+             0,
+             0,
+             0,
              r.stats.shortest_edge,
              r.stats.radius_edge_ratio.max,
              r.stats.radius_edge_ratio.mean,
@@ -77,6 +85,13 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
              r.repair_seconds,
              true};
     for (auto n : r.stats.insertions) out.insertions += n;
+    for (const mesh::LabelTopology& l : mesh::certify_topology(r.mesh).labels) {
+      out.pieces += l.components;
+      out.touching += l.touching_components;
+      out.nm_vertices += l.non_manifold_vertices;
+      out.nm_edges += l.non_manifold_edges;
+      out.nm_triangles += l.non_manifold_triangles;
+    }
     return out;
   });
   return result ? *result : Flat{};
@@ -115,13 +130,17 @@ bool mesh_row(const std::string& name, const domain::LabelImage4& image, double 
   *rate = f.pentatopes / f.seconds;
   std::printf(
       "| %s | %s | %g | %llu | %llu | %llu | %.2f | %.2f / %.2f / %.2f | %.4f / %.2f / %.2f | "
-      "%.2f | %.0f | %llu | %.0f | %llu | %llu | %llu | %.2f | %016llx |\n",
+      "%.2f | %.0f | %llu | %.0f | %llu | %llu | %llu | %.2f | %llu / %llu | %llu / %llu / %llu | "
+      "%016llx |\n",
       name.c_str(), order == refine::RuleOrder::r3_first ? "R3 first" : "paper", delta,
       (unsigned long long)f.pentatopes, (unsigned long long)f.boundary,
       (unsigned long long)f.vertices, f.shortest, f.rho_max, f.rho_mean, f.rho_std, f.tau_min,
       f.tau_mean, f.tau_std, f.seconds, f.pentatopes / f.seconds, (unsigned long long)f.insertions,
       f.peak_mb, (unsigned long long)f.off_surface, (unsigned long long)f.pinched,
-      (unsigned long long)f.relabeled, f.repair_seconds, (unsigned long long)f.fingerprint);
+      (unsigned long long)f.relabeled, f.repair_seconds, (unsigned long long)f.pieces,
+      (unsigned long long)f.touching, (unsigned long long)f.nm_vertices,
+      (unsigned long long)f.nm_edges, (unsigned long long)f.nm_triangles,
+      (unsigned long long)f.fingerprint);
   std::fflush(stdout);
   return f.off_surface == 0 && f.pinched == 0 && f.rho_max <= params.radius_edge_bound &&
          f.tau_min >= params.sliver_bound;
@@ -188,8 +207,9 @@ int main(int argc, char** argv) {
       "| input | rule order | δ | pentatopes | boundary tets | vertices | shortest edge | "
       "radius-edge max / mean / std | normalized volume min / mean / std | time s | "
       "pentatopes/s | insertions | peak MB | boundary vertex uses off ∂Ω | pinched triangles "
-      "| relabeled pentatopes | of the time, pinch repair s | mesh fingerprint "
-      "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "| relabeled pentatopes | of the time, pinch repair s | pieces / touching another "
+      "(all labels) | non-manifold vertices / edges / triangles | mesh fingerprint "
+      "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   const auto sphere = domain::hypersphere_phantom({32, 32, 32, 32}, {1, 1, 1, 1}, 12);
   row("hypersphere r=12", sphere, 2, refine::RuleOrder::r3_first);
   row("hypersphere r=12", sphere, 2, refine::RuleOrder::paper);

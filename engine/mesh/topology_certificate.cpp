@@ -1,0 +1,275 @@
+#include "mesh/topology_certificate.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <tuple>
+
+namespace mesh4d::mesh {
+namespace {
+
+using Id = std::uint32_t;
+
+class UnionFind {
+ public:
+  explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
+  std::size_t find(std::size_t i) {
+    while (parent_[i] != i) i = parent_[i] = parent_[parent_[i]];
+    return i;
+  }
+  void join(std::size_t a, std::size_t b) { parent_[find(a)] = find(b); }
+
+ private:
+  std::vector<std::size_t> parent_;
+};
+
+template <std::size_t N>
+std::array<Id, N> sorted(std::array<Id, N> a) {
+  std::sort(a.begin(), a.end());
+  return a;
+}
+
+// A region's boundary facet: its label, its vertices (sorted).
+struct BoundaryFacet {
+  Label label;
+  std::array<Id, 4> v;
+  bool operator<(const BoundaryFacet& o) const {
+    return std::tie(label, v) < std::tie(o.label, o.v);
+  }
+  bool operator==(const BoundaryFacet& o) const { return label == o.label && v == o.v; }
+};
+
+// Whether the triangles around a boundary vertex form a 2-sphere: each of their edges in exactly
+// two of them, connected through shared edges, and Euler characteristic 2.
+bool link_is_sphere(const std::vector<std::array<Id, 3>>& triangles) {
+  std::vector<std::pair<std::array<Id, 2>, std::size_t>> edges;  // (edge, triangle)
+  std::vector<Id> vertices;
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const auto& [a, b, c] = triangles[t];
+    edges.push_back({{a, b}, t});
+    edges.push_back({{a, c}, t});
+    edges.push_back({{b, c}, t});
+    vertices.insert(vertices.end(), {a, b, c});
+  }
+  std::sort(edges.begin(), edges.end());
+  std::sort(vertices.begin(), vertices.end());
+  const std::size_t v = std::unique(vertices.begin(), vertices.end()) - vertices.begin();
+  UnionFind pieces(triangles.size());
+  std::size_t e = 0;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j].first == edges[i].first) ++j;
+    if (j - i != 2) return false;
+    pieces.join(edges[i].second, edges[i + 1].second);
+    ++e;
+    i = j;
+  }
+  for (std::size_t t = 1; t < triangles.size(); ++t)
+    if (pieces.find(t) != pieces.find(0)) return false;
+  return static_cast<long>(v) - static_cast<long>(e) + static_cast<long>(triangles.size()) == 2;
+}
+
+// Whether the edges around a boundary edge form one circle: every vertex in exactly two of them,
+// and connected.
+bool link_is_circle(const std::vector<std::array<Id, 2>>& edges) {
+  std::vector<Id> ends;
+  for (const auto& [a, b] : edges) ends.insert(ends.end(), {a, b});
+  std::sort(ends.begin(), ends.end());
+  for (std::size_t i = 0; i < ends.size(); i += 2)
+    if (i + 1 >= ends.size() || ends[i] != ends[i + 1] ||
+        (i + 2 < ends.size() && ends[i + 2] == ends[i]))
+      return false;
+  std::vector<Id> vertices(ends.begin(), ends.end());
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  const auto index = [&](Id x) {
+    return static_cast<std::size_t>(std::lower_bound(vertices.begin(), vertices.end(), x) -
+                                    vertices.begin());
+  };
+  UnionFind pieces(vertices.size());
+  for (const auto& [a, b] : edges) pieces.join(index(a), index(b));
+  for (std::size_t i = 1; i < vertices.size(); ++i)
+    if (pieces.find(i) != pieces.find(0)) return false;
+  return true;
+}
+
+double four_volume(const Mesh4& mesh, const std::array<Id, 5>& p) {
+  double m[4][4];
+  const Point4& o = mesh.vertices[p[0]];
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m[r][c] = mesh.vertices[p[r + 1]][c] - o[c];
+  // The determinant by elimination with partial pivoting.
+  double det = 1;
+  for (int c = 0; c < 4; ++c) {
+    int pivot = c;
+    for (int r = c + 1; r < 4; ++r)
+      if (std::abs(m[r][c]) > std::abs(m[pivot][c])) pivot = r;
+    if (m[pivot][c] == 0) return 0;
+    if (pivot != c) {
+      std::swap(m[pivot], m[c]);
+      det = -det;
+    }
+    det *= m[c][c];
+    for (int r = c + 1; r < 4; ++r) {
+      const double f = m[r][c] / m[c][c];
+      for (int k = c; k < 4; ++k) m[r][k] -= f * m[c][k];
+    }
+  }
+  return std::abs(det) / 24;
+}
+
+}  // namespace
+
+bool TopologyCertificate::manifold() const {
+  for (const LabelTopology& l : labels)
+    if (l.non_manifold_triangles || l.non_manifold_edges || l.non_manifold_vertices ||
+        l.boundary_list_mismatches)
+      return false;
+  return true;
+}
+
+TopologyCertificate certify_topology(const Mesh4& mesh) {
+  const std::size_t n = mesh.pentatopes.size();
+  std::map<Label, LabelTopology> by_label;
+  for (std::size_t p = 0; p < n; ++p) {
+    LabelTopology& l = by_label[mesh.labels[p]];
+    l.label = mesh.labels[p];
+    ++l.pentatopes;
+    l.volume += four_volume(mesh, mesh.pentatopes[p]);
+  }
+
+  // Facets: pentatopes of one label that share one are one piece; a facet that no other
+  // pentatope of the label shares bounds the label's region.
+  std::vector<std::pair<std::array<Id, 4>, Id>> facets;
+  facets.reserve(5 * n);
+  for (std::size_t p = 0; p < n; ++p)
+    for (int skip = 0; skip < 5; ++skip) {
+      std::array<Id, 4> f;
+      for (int k = 0, m = 0; k < 5; ++k)
+        if (k != skip) f[m++] = mesh.pentatopes[p][k];
+      facets.push_back({sorted(f), static_cast<Id>(p)});
+    }
+  std::sort(facets.begin(), facets.end());
+  UnionFind pieces(n);
+  std::vector<BoundaryFacet> boundary;
+  for (std::size_t i = 0; i < facets.size();) {
+    std::size_t j = i;
+    while (j < facets.size() && facets[j].first == facets[i].first) ++j;
+    for (std::size_t a = i; a < j; ++a) {
+      bool shared = false;
+      for (std::size_t b = i; b < j; ++b)
+        if (b != a && mesh.labels[facets[b].second] == mesh.labels[facets[a].second]) {
+          shared = true;
+          pieces.join(facets[a].second, facets[b].second);
+        }
+      if (!shared) boundary.push_back({mesh.labels[facets[a].second], facets[a].first});
+    }
+    i = j;
+  }
+
+  // Pieces, and those that meet another piece of their label at a vertex (an edge or a
+  // triangle contact has its vertices too).
+  std::map<Label, std::vector<std::size_t>> roots;
+  for (std::size_t p = 0; p < n; ++p)
+    if (pieces.find(p) == p) roots[mesh.labels[p]].push_back(p);
+  std::vector<std::pair<Id, Id>> at_vertex;  // (vertex, pentatope)
+  at_vertex.reserve(5 * n);
+  for (std::size_t p = 0; p < n; ++p)
+    for (Id v : mesh.pentatopes[p]) at_vertex.push_back({v, static_cast<Id>(p)});
+  std::sort(at_vertex.begin(), at_vertex.end());
+  std::vector<bool> touching(n, false);
+  std::vector<std::pair<Label, std::size_t>> around;  // (label, piece) at one vertex
+  for (std::size_t i = 0; i < at_vertex.size();) {
+    std::size_t j = i;
+    around.clear();
+    for (; j < at_vertex.size() && at_vertex[j].first == at_vertex[i].first; ++j)
+      around.push_back({mesh.labels[at_vertex[j].second], pieces.find(at_vertex[j].second)});
+    std::sort(around.begin(), around.end());
+    around.erase(std::unique(around.begin(), around.end()), around.end());
+    for (std::size_t a = 0; a + 1 < around.size(); ++a)
+      if (around[a].first == around[a + 1].first)
+        touching[around[a].second] = touching[around[a + 1].second] = true;
+    i = j;
+  }
+  for (auto& [label, list] : roots) {
+    by_label[label].components = list.size();
+    for (std::size_t r : list) by_label[label].touching_components += touching[r];
+  }
+
+  // The boundary's triangles, and the links of its edges and vertices.
+  std::vector<std::pair<std::array<Id, 4>, int>> triangles;  // (label, triangle), once per facet
+  std::vector<std::tuple<Label, std::array<Id, 2>, std::array<Id, 2>>> edge_links;
+  std::vector<std::tuple<Label, Id, std::array<Id, 3>>> vertex_links;
+  for (const BoundaryFacet& f : boundary) {
+    ++by_label[f.label].boundary_facets;
+    const auto& v = f.v;
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<Id, 3> t;
+      for (int k = 0, m = 0; k < 4; ++k)
+        if (k != skip) t[m++] = v[k];
+      triangles.push_back({{f.label, t[0], t[1], t[2]}, 0});
+      vertex_links.emplace_back(f.label, v[skip], t);
+    }
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) {
+        std::array<Id, 2> rest;
+        for (int k = 0, m = 0; k < 4; ++k)
+          if (k != a && k != b) rest[m++] = v[k];
+        edge_links.emplace_back(f.label, std::array<Id, 2>{v[a], v[b]}, rest);
+      }
+  }
+  std::sort(triangles.begin(), triangles.end());
+  for (std::size_t i = 0; i < triangles.size();) {
+    std::size_t j = i;
+    while (j < triangles.size() && triangles[j].first == triangles[i].first) ++j;
+    if (j - i != 2) ++by_label[static_cast<Label>(triangles[i].first[0])].non_manifold_triangles;
+    i = j;
+  }
+  std::sort(edge_links.begin(), edge_links.end());
+  std::vector<std::array<Id, 2>> circle;
+  for (std::size_t i = 0; i < edge_links.size();) {
+    std::size_t j = i;
+    circle.clear();
+    for (; j < edge_links.size() && std::get<0>(edge_links[j]) == std::get<0>(edge_links[i]) &&
+           std::get<1>(edge_links[j]) == std::get<1>(edge_links[i]);
+         ++j)
+      circle.push_back(std::get<2>(edge_links[j]));
+    if (!link_is_circle(circle)) ++by_label[std::get<0>(edge_links[i])].non_manifold_edges;
+    i = j;
+  }
+  std::sort(vertex_links.begin(), vertex_links.end());
+  std::vector<std::array<Id, 3>> sphere;
+  for (std::size_t i = 0; i < vertex_links.size();) {
+    std::size_t j = i;
+    sphere.clear();
+    for (;
+         j < vertex_links.size() && std::get<0>(vertex_links[j]) == std::get<0>(vertex_links[i]) &&
+         std::get<1>(vertex_links[j]) == std::get<1>(vertex_links[i]);
+         ++j)
+      sphere.push_back(std::get<2>(vertex_links[j]));
+    if (!link_is_sphere(sphere)) ++by_label[std::get<0>(vertex_links[i])].non_manifold_vertices;
+    i = j;
+  }
+
+  // The mesh's own boundary list against the computed one.
+  std::vector<BoundaryFacet> listed;
+  listed.reserve(mesh.boundary.size());
+  for (const BoundaryTetrahedron& b : mesh.boundary)
+    listed.push_back({b.inner, sorted(b.vertices)});
+  std::sort(listed.begin(), listed.end());
+  std::sort(boundary.begin(), boundary.end());
+  std::vector<BoundaryFacet> differ;
+  std::set_symmetric_difference(boundary.begin(), boundary.end(), listed.begin(), listed.end(),
+                                std::back_inserter(differ));
+  for (const BoundaryFacet& f : differ) ++by_label[f.label].boundary_list_mismatches;
+
+  TopologyCertificate certificate;
+  for (auto& [label, l] : by_label) {
+    l.label = label;
+    certificate.labels.push_back(l);
+  }
+  return certificate;
+}
+
+}  // namespace mesh4d::mesh
