@@ -20,6 +20,7 @@
 
 #include "bench_util.h"
 #include "domain/image_io.h"
+#include "domain/label_census.h"
 #include "domain/phantoms.h"
 #include "domain/surface_oracle.h"
 #include "frames_comparison.h"
@@ -45,7 +46,8 @@ struct Flat {
   std::uint64_t vertices, pentatopes, boundary, insertions, off_surface, pinched, relabeled,
       fingerprint;
   // The topology certificate, summed over the labels.
-  std::uint64_t pieces, touching, nm_vertices, nm_edges, nm_triangles;
+  std::uint64_t pieces, touching, nm_vertices, nm_edges, nm_triangles, image_pieces;
+  double volume_ratio;  // the mesh's 4-volume over the voxels', all labels
   double shortest, rho_max, rho_mean, rho_std, tau_min, tau_mean, tau_std, seconds, peak_mb,
       repair_seconds;
   bool ok;
@@ -73,6 +75,8 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
              0,
              0,
              0,
+             0,
+             0,
              r.stats.shortest_edge,
              r.stats.radius_edge_ratio.max,
              r.stats.radius_edge_ratio.mean,
@@ -85,13 +89,20 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
              r.repair_seconds,
              true};
     for (auto n : r.stats.insertions) out.insertions += n;
+    double mesh_volume = 0, voxel_volume = 0;
+    for (const auto& per : domain::take_census(closed).labels) {
+      out.image_pieces += per.components;
+      voxel_volume += per.volume;
+    }
     for (const mesh::LabelTopology& l : mesh::certify_topology(r.mesh).labels) {
+      mesh_volume += l.volume;
       out.pieces += l.components;
       out.touching += l.touching_components;
       out.nm_vertices += l.non_manifold_vertices;
       out.nm_edges += l.non_manifold_edges;
       out.nm_triangles += l.non_manifold_triangles;
     }
+    out.volume_ratio = voxel_volume > 0 ? mesh_volume / voxel_volume : 0;
     return out;
   });
   return result ? *result : Flat{};
@@ -130,7 +141,9 @@ bool mesh_row(const std::string& name, const domain::LabelImage4& image, double 
   *rate = f.pentatopes / f.seconds;
   std::printf(
       "| %s | %s | %g | %llu | %llu | %llu | %.2f | %.2f / %.2f / %.2f | %.4f / %.2f / %.2f | "
-      "%.2f | %.0f | %llu | %.0f | %llu | %llu | %llu | %.2f | %llu / %llu | %llu / %llu / %llu | "
+      "%.2f | %.0f | %llu | %.0f | %llu | %llu | %llu | %.2f | %llu / %llu / %llu | %llu / %llu / "
+      "%llu | "
+      "%.4f | "
       "%016llx |\n",
       name.c_str(), order == refine::RuleOrder::r3_first ? "R3 first" : "paper", delta,
       (unsigned long long)f.pentatopes, (unsigned long long)f.boundary,
@@ -138,9 +151,9 @@ bool mesh_row(const std::string& name, const domain::LabelImage4& image, double 
       f.tau_mean, f.tau_std, f.seconds, f.pentatopes / f.seconds, (unsigned long long)f.insertions,
       f.peak_mb, (unsigned long long)f.off_surface, (unsigned long long)f.pinched,
       (unsigned long long)f.relabeled, f.repair_seconds, (unsigned long long)f.pieces,
-      (unsigned long long)f.touching, (unsigned long long)f.nm_vertices,
-      (unsigned long long)f.nm_edges, (unsigned long long)f.nm_triangles,
-      (unsigned long long)f.fingerprint);
+      (unsigned long long)f.touching, (unsigned long long)f.image_pieces,
+      (unsigned long long)f.nm_vertices, (unsigned long long)f.nm_edges,
+      (unsigned long long)f.nm_triangles, f.volume_ratio, (unsigned long long)f.fingerprint);
   std::fflush(stdout);
   return f.off_surface == 0 && f.pinched == 0 && f.rho_max <= params.radius_edge_bound &&
          f.tau_min >= params.sliver_bound;
@@ -207,9 +220,10 @@ int main(int argc, char** argv) {
       "| input | rule order | δ | pentatopes | boundary tets | vertices | shortest edge | "
       "radius-edge max / mean / std | normalized volume min / mean / std | time s | "
       "pentatopes/s | insertions | peak MB | boundary vertex uses off ∂Ω | pinched triangles "
-      "| relabeled pentatopes | of the time, pinch repair s | pieces / touching another "
-      "(all labels) | non-manifold vertices / edges / triangles | mesh fingerprint "
-      "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "| relabeled pentatopes | of the time, pinch repair s | mesh pieces / touching another / "
+      "image pieces (all labels) | non-manifold vertices / edges / triangles | 4-volume / voxels "
+      "| mesh fingerprint "
+      "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   const auto sphere = domain::hypersphere_phantom({32, 32, 32, 32}, {1, 1, 1, 1}, 12);
   row("hypersphere r=12", sphere, 2, refine::RuleOrder::r3_first);
   row("hypersphere r=12", sphere, 2, refine::RuleOrder::paper);

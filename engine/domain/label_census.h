@@ -1,0 +1,31 @@
+// What the image says each label should be, for comparing a mesh with it
+// (mesh/topology_certificate.h counts the mesh's side): per label, its face-connected pieces
+// (voxels that share a 3D face, eight neighbors in 4D), its voxels and their 4-volume, and per
+// frame its 3D volume.
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <vector>
+
+#include "domain/label_image.h"
+
+namespace mesh4d::domain {
+
+struct LabelCensus {
+  struct PerLabel {
+    Label label = 0;
+    std::size_t voxels = 0;
+    std::size_t components = 0;  // face-connected pieces
+    double volume = 0;           // voxels × the product of the spacings
+  };
+  std::vector<PerLabel> labels;  // the non-zero labels, ascending
+  /// Each frame's time (its voxel centers' t) and each label's 3D volume in it (voxels × the
+  /// spatial spacings); frames without foreground are listed with no volumes.
+  std::vector<double> frame_times;
+  std::vector<std::map<Label, double>> frame_volumes;
+};
+
+LabelCensus take_census(const LabelImage4& image);
+
+}  // namespace mesh4d::domain
