@@ -28,6 +28,7 @@ struct SubmitOptions {
   unsigned extend_time = 0;
   std::string name, request_id, out;
   bool wait = false;
+  bool strict = false;
 };
 
 // --params file (JSON keys as the RefineParams fields, read as the REST face reads them), then
@@ -47,6 +48,7 @@ void fill_params(const SubmitOptions& o, v1::RefineParams* p) {
   if (o.rho) p->set_radius_edge_bound(o.rho);
   if (o.threads) p->set_threads(o.threads);
   if (o.extend_time) p->set_extend_time_frames(o.extend_time);
+  if (o.strict) p->set_strict(true);
 }
 
 std::string random_request_id() {
@@ -120,6 +122,8 @@ void setup_submit_command(CLI::App& app, const GlobalOptions& global, int* exit_
   cmd->add_option("--name", o->name, "a name shown in listings (default: the file)");
   cmd->add_option("--request-id", o->request_id, "idempotency key (default: random)");
   cmd->add_flag("--wait", o->wait, "follow the job to its end (progress on stderr)");
+  cmd->add_flag("--strict", o->strict,
+                "fail the job when its fidelity certificate finds a defect (else a warning)");
   cmd->add_option("--out", o->out, "with --wait: write the mesh (.m4d) here");
   cmd->callback([&global, o, exit_code, cmd] {
     if (o->image.empty() == o->frames.empty())

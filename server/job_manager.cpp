@@ -179,6 +179,7 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
   *job.mutable_image() = spec.image();
   *job.mutable_params() = to_proto(params, threads);
   job.mutable_params()->set_extend_time_frames(spec.params().extend_time_frames());
+  job.mutable_params()->set_strict(spec.params().strict());
   *job.mutable_created() = TimeUtil::GetCurrentTime();
   for (auto& w : warnings) job.add_warnings(w);
   try {
@@ -434,6 +435,7 @@ void JobManager::run(const std::string& id) {
   v1::ImageHeader header;
   refine::RefineParams params;
   std::size_t extend_time_frames = 0;
+  bool strict = false;
   {
     std::lock_guard lock(mu_);
     entry = &find(id);
@@ -441,6 +443,7 @@ void JobManager::run(const std::string& id) {
     header = entry->job.image();
     params = to_engine(entry->job.params());
     extend_time_frames = entry->job.params().extend_time_frames();
+    strict = entry->job.params().strict();
   }
   log_job(spdlog::level::info, id, "running");
   Sink sink(*this, *entry);
@@ -449,9 +452,20 @@ void JobManager::run(const std::string& id) {
   try {
     const std::string input = store_.read_input(id);
     JobOutcome outcome = runner_(header, params, extend_time_frames, input, sink);
+    const std::vector<std::string> defects = outcome.certificate.defects();
+    if (strict && !defects.empty()) {
+      // The certificate goes with the failed job, for the user to see why.
+      std::lock_guard lock(mu_);
+      *entry->job.mutable_stats() = to_proto(outcome.stats);
+      add_certificate(outcome.certificate, entry->job.mutable_stats());
+      std::string why = "strict: the fidelity certificate found defects";
+      for (const auto& d : defects) why += "; " + d;
+      throw std::runtime_error(why);
+    }
     store_.save_result(id, outcome.mesh);
     std::lock_guard lock(mu_);
     *entry->job.mutable_stats() = to_proto(outcome.stats);
+    add_certificate(outcome.certificate, entry->job.mutable_stats());
     entry->job.clear_warnings();
     for (auto& w : outcome.warnings) entry->job.add_warnings(w);
     v1::JobEvent finished;

@@ -51,6 +51,9 @@ JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& pa
   out.stats = result.stats;
   out.relabeled = result.relabeled;
   out.warnings.insert(out.warnings.end(), result.warnings.begin(), result.warnings.end());
+  out.certificate = refine::certify(result.mesh, image);
+  for (const std::string& defect : out.certificate.defects())
+    out.warnings.push_back("fidelity certificate: " + defect);
   return out;
 }
 

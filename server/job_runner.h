@@ -10,6 +10,7 @@
 
 #include "mesh/mesh_stats.h"
 #include "mesh4d/v1/mesh4d.pb.h"
+#include "refine/fidelity_certificate.h"
 #include "refine/progress.h"
 #include "refine/refine_params.h"
 
@@ -19,7 +20,8 @@ struct JobOutcome {
   std::string mesh;  // the .m4d bytes
   mesh::MeshStats stats;
   std::vector<std::string> warnings;
-  std::size_t relabeled = 0;  // pentatopes given a neighbor's label to close pinches
+  std::size_t relabeled = 0;                // pentatopes given a neighbor's label to close pinches
+  refine::FidelityCertificate certificate;  // the mesh against the image meshed
 };
 
 /// Throws refine::Cancelled, refine::BudgetExceeded, wire::ServiceError (bad input) or

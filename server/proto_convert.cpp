@@ -70,6 +70,24 @@ v1::MeshStats to_proto(const mesh::MeshStats& s) {
   return r;
 }
 
+void add_certificate(const refine::FidelityCertificate& c, v1::MeshStats* stats) {
+  for (const refine::LabelFidelity& l : c.labels) {
+    v1::LabelCertificate* out = stats->add_certificate();
+    out->set_label(l.label);
+    out->set_mesh_pieces(l.mesh_pieces);
+    out->set_touching_pieces(l.touching_pieces);
+    out->set_image_pieces(l.image_pieces);
+    out->set_non_manifold_vertices(l.non_manifold_vertices);
+    out->set_non_manifold_edges(l.non_manifold_edges);
+    out->set_non_manifold_triangles(l.non_manifold_triangles);
+    out->set_boundary_list_mismatches(l.boundary_list_mismatches);
+    out->set_volume(l.volume);
+    out->set_voxel_volume(l.voxel_volume);
+    out->set_worst_frame_volume_error(l.worst_frame_error);
+    out->set_worst_frame_time(l.worst_frame_time);
+  }
+}
+
 v1::Phase to_proto(refine::Phase phase) {
   switch (phase) {
     case refine::Phase::loading:

@@ -3,6 +3,7 @@
 
 #include "mesh/mesh_stats.h"
 #include "mesh4d/v1/mesh4d.pb.h"
+#include "refine/fidelity_certificate.h"
 #include "refine/progress.h"
 #include "refine/refine_params.h"
 
@@ -14,6 +15,8 @@ refine::RefineParams to_engine(const v1::RefineParams& p);
 v1::RefineParams to_proto(const refine::RefineParams& p, unsigned threads);
 
 v1::MeshStats to_proto(const mesh::MeshStats& s);
+/// Appends the certificate's labels to `stats`.
+void add_certificate(const refine::FidelityCertificate& c, v1::MeshStats* stats);
 v1::Progress to_proto(const refine::Progress& p);
 v1::Phase to_proto(refine::Phase phase);
 

@@ -63,8 +63,10 @@ class TemporaryFile {
   std::filesystem::path path_;
 };
 
-// A query value as JSON: a number when it reads as one, else a string (enum names).
+// A query value as JSON: a number when it reads as one, true or false, else a string (enum
+// names).
 nlohmann::json json_value(const std::string& value) {
+  if (value == "true" || value == "false") return value == "true";
   char* end = nullptr;
   const double number = std::strtod(value.c_str(), &end);
   if (!value.empty() && end == value.c_str() + value.size() && std::isfinite(number)) {

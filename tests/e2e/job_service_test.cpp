@@ -36,6 +36,60 @@ void expect_fidelity(const mesh::Mesh4& m, const domain::LabelImage4& image) {
   EXPECT_EQ(check.pinched, 0u);
 }
 
+// Every job carries its fidelity certificate, one entry per label; a defect is a warning, and
+// with strict it fails the job instead, the certificate kept with it.
+TEST(JobService, EveryJobCarriesItsCertificateAndStrictFailsOnADefect) {
+  const std::string dir = make_temp_dir("mesh4d-certificate");
+  RunningServer server(dir + "/data");
+  ASSERT_FALSE(server.address().empty());
+  auto stub = server.stub();
+  const auto run = [&](const domain::LabelImage4& image, double delta, bool strict,
+                       const std::string& request_id) {
+    Upload u = make_upload(image, delta, request_id);
+    u.spec.mutable_params()->set_strict(strict);
+    v1::SubmitJobResponse submitted;
+    EXPECT_TRUE(submit(*stub, u.spec, u.data, &submitted).ok());
+    return wait_until_done(*stub, submitted.job().id());
+  };
+  const auto defects = [](const v1::Job& job) {
+    std::size_t n = 0;
+    for (const auto& c : job.stats().certificate())
+      n += c.touching_pieces() > 0 || c.mesh_pieces() != c.image_pieces() ||
+           c.non_manifold_vertices() > 0 || c.non_manifold_edges() > 0 ||
+           c.non_manifold_triangles() > 0;
+    return n;
+  };
+  const auto warned = [](const v1::Job& job) {
+    std::size_t n = 0;
+    for (const auto& w : job.warnings()) n += w.rfind("fidelity certificate: label ", 0) == 0;
+    return n;
+  };
+  const auto ventricle = domain::beating_ventricle_phantom({40, 40, 16, 6}, {4.4, 4.4, 16, 3});
+  const v1::Job lenient = run(ventricle, 8, false, "certificate-1");
+  ASSERT_EQ(lenient.state(), v1::JOB_STATE_SUCCEEDED) << lenient.error();
+  ASSERT_EQ(lenient.stats().certificate_size(), 2);
+  for (const auto& c : lenient.stats().certificate()) {
+    EXPECT_GE(c.image_pieces(), 1u);
+    EXPECT_GT(c.volume(), 0);
+    EXPECT_GT(c.voxel_volume(), 0);
+  }
+  EXPECT_EQ(warned(lenient), defects(lenient));
+  std::printf("the coarse ventricle: %zu of 2 labels with a defect\n", defects(lenient));
+  const v1::Job strict = run(ventricle, 8, true, "certificate-2");
+  EXPECT_EQ(strict.state(), defects(lenient) > 0 ? v1::JOB_STATE_FAILED : v1::JOB_STATE_SUCCEEDED);
+  EXPECT_EQ(strict.stats().certificate_size(), 2) << "the certificate stays with a failed job";
+  if (strict.state() == v1::JOB_STATE_FAILED) {
+    EXPECT_NE(strict.error().find("strict: the fidelity certificate found defects"),
+              std::string::npos)
+        << strict.error();
+  }
+  const v1::Job sphere =
+      run(domain::hypersphere_phantom({16, 16, 16, 16}, {1, 1, 1, 1}, 5), 2, true, "certificate-3");
+  EXPECT_EQ(sphere.state(), v1::JOB_STATE_SUCCEEDED) << sphere.error();
+  EXPECT_EQ(defects(sphere), 0u);
+  EXPECT_TRUE(sphere.params().strict());
+}
+
 TEST(JobService, SubmitWatchFetchWithTheRealClient) {
   const std::string dir = make_temp_dir("mesh4d-jobs");
   RunningServer server(dir + "/data");

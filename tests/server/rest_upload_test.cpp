@@ -48,7 +48,8 @@ TEST(RestUpload, ReadsTheImageAndTheParametersTheQueryOverriding) {
                                            {"name", "sphere"},
                                            {"request_id", "r-1"},
                                            {"time_scale", "2.5"},
-                                           {"access_token", "x"}},
+                                           {"access_token", "x"},
+                                           {"strict", "true"}},
                                           R"({"delta": 4, "rule_order": "paper", "threads": 2})");
   EXPECT_EQ(u.spec.name(), "sphere");
   EXPECT_EQ(u.spec.request_id(), "r-1");
@@ -56,6 +57,7 @@ TEST(RestUpload, ReadsTheImageAndTheParametersTheQueryOverriding) {
   EXPECT_EQ(u.spec.params().seed(), 18446744073709551615ull);
   EXPECT_EQ(u.spec.params().rule_order(), v1::RULE_ORDER_PAPER);
   EXPECT_EQ(u.spec.params().threads(), 2u);
+  EXPECT_TRUE(u.spec.params().strict());
   EXPECT_EQ(u.spec.image().spacing().t(), 2.5);
   EXPECT_EQ(u.spec.image().dims().x(), 10u);
   EXPECT_EQ(u.data.size(), u.spec.image().byte_size());

@@ -1,0 +1,42 @@
+// The fidelity certificate of a mesh against the image it was made from, per label: the mesh's
+// topology (mesh/topology_certificate.h) beside the image's face-connected pieces
+// (domain/label_census.h), the region's 4-volume beside the voxels', and the worst frame's 3D
+// volume error. docs/refinement.md, "What is checked", says what each count means.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "domain/label_image.h"
+#include "mesh/mesh4.h"
+
+namespace mesh4d::refine {
+
+struct LabelFidelity {
+  domain::Label label = 0;
+  std::size_t mesh_pieces = 0;
+  std::size_t touching_pieces = 0;  // mesh pieces meeting another at a vertex, edge or triangle
+  std::size_t image_pieces = 0;     // face-connected pieces of the label in the image
+  std::size_t non_manifold_vertices = 0;
+  std::size_t non_manifold_edges = 0;
+  std::size_t non_manifold_triangles = 0;
+  std::size_t boundary_list_mismatches = 0;
+  double volume = 0;        // the region's 4-volume
+  double voxel_volume = 0;  // the label's voxels' 4-volume
+  // Over the frames where the label has voxels: the relative error of the mesh's section at the
+  // frame's time against the frame's voxel volume, the largest in magnitude, and that time.
+  double worst_frame_error = 0;
+  double worst_frame_time = 0;
+};
+
+struct FidelityCertificate {
+  std::vector<LabelFidelity> labels;  // every label of the image or the mesh, ascending
+  /// One sentence per label with a topological defect (pieces that touch or differ from the
+  /// image's, non-manifold simplices, a wrong boundary list); empty when there is none.
+  std::vector<std::string> defects() const;
+};
+
+/// `image` is the one meshed (closed, and extended in time where the job asked).
+FidelityCertificate certify(const mesh::Mesh4& mesh, const domain::LabelImage4& image);
+
+}  // namespace mesh4d::refine
