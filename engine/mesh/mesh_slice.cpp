@@ -168,6 +168,52 @@ double tetrahedron_volume(const SliceMesh& slice, std::size_t i) {
   return signed_volume6(p[t[0]], p[t[1]], p[t[2]], p[t[3]]) / 6;
 }
 
+std::vector<std::map<Label, double>> slice_volumes(const Mesh4& mesh,
+                                                   const std::vector<double>& times) {
+  std::vector<std::map<Label, double>> volumes(times.size());
+  for (std::size_t p = 0; p < mesh.pentatopes.size(); ++p) {
+    const auto& cell = mesh.pentatopes[p];
+    double lo = mesh.vertices[cell[0]][3], hi = lo;
+    for (auto v : cell)
+      lo = std::min(lo, mesh.vertices[v][3]), hi = std::max(hi, mesh.vertices[v][3]);
+    for (auto it = std::upper_bound(times.begin(), times.end(), lo); it != times.end() && *it <= hi;
+         ++it) {
+      const double t = *it;
+      // The edges from the corners below t to those at or above it, cut at t. A pentatope whose
+      // top is at t counts (a facet on the plane is the section of the pentatope below it, as
+      // in slice_mesh); one whose bottom is at t does not.
+      std::array<std::uint32_t, 5> below, above;
+      int nb = 0, na = 0;
+      for (auto v : cell) (mesh.vertices[v][3] < t ? below[nb++] : above[na++]) = v;
+      const auto cut = [&](std::uint32_t a, std::uint32_t b) {
+        const Point4& p0 = mesh.vertices[a];
+        const Point4& p1 = mesh.vertices[b];
+        const double s = (t - p0[3]) / (p1[3] - p0[3]);
+        return P3{p0[0] + s * (p1[0] - p0[0]), p0[1] + s * (p1[1] - p0[1]),
+                  p0[2] + s * (p1[2] - p0[2])};
+      };
+      double six = 0;  // six times the section's volume
+      if (nb == 1 || na == 1) {
+        std::array<P3, 4> q;
+        for (int j = 0; j < 4; ++j)
+          q[j] = nb == 1 ? cut(below[0], above[j]) : cut(below[j], above[0]);
+        six = std::abs(signed_volume6(q[0], q[1], q[2], q[3]));
+      } else {
+        std::array<P3, 3> a, b;  // the prism's two triangles
+        for (int j = 0; j < 3; ++j) {
+          a[j] = nb == 2 ? cut(below[0], above[j]) : cut(below[j], above[0]);
+          b[j] = nb == 2 ? cut(below[1], above[j]) : cut(below[j], above[1]);
+        }
+        six = std::abs(signed_volume6(a[0], a[1], a[2], b[2])) +
+              std::abs(signed_volume6(a[0], a[1], b[2], b[1])) +
+              std::abs(signed_volume6(a[0], b[1], b[2], b[0]));
+      }
+      volumes[static_cast<std::size_t>(it - times.begin())][mesh.labels[p]] += six / 6;
+    }
+  }
+  return volumes;
+}
+
 std::map<Label, double> slice_volumes(const Mesh4& mesh, double time) {
   const SliceMesh slice = slice_mesh(mesh, time, false);
   std::map<Label, double> volume;

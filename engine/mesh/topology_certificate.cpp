@@ -173,24 +173,28 @@ TopologyCertificate certify_topology(const Mesh4& mesh) {
   std::map<Label, std::vector<std::size_t>> roots;
   for (std::size_t p = 0; p < n; ++p)
     if (pieces.find(p) == p) roots[mesh.labels[p]].push_back(p);
-  std::vector<std::pair<Id, Id>> at_vertex;  // (vertex, pentatope)
-  at_vertex.reserve(5 * n);
-  for (std::size_t p = 0; p < n; ++p)
-    for (Id v : mesh.pentatopes[p]) at_vertex.push_back({v, static_cast<Id>(p)});
-  std::sort(at_vertex.begin(), at_vertex.end());
+  // The pentatopes at each vertex, by a counting sort (first[v] .. first[v + 1] in star).
+  std::vector<std::size_t> first(mesh.vertices.size() + 1, 0);
+  for (const auto& cell : mesh.pentatopes)
+    for (Id v : cell) ++first[v + 1];
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) first[v + 1] += first[v];
+  std::vector<Id> star(5 * n);
+  {
+    std::vector<std::size_t> next(first.begin(), first.end() - 1);
+    for (std::size_t p = 0; p < n; ++p)
+      for (Id v : mesh.pentatopes[p]) star[next[v]++] = static_cast<Id>(p);
+  }
   std::vector<bool> touching(n, false);
   std::vector<std::pair<Label, std::size_t>> around;  // (label, piece) at one vertex
-  for (std::size_t i = 0; i < at_vertex.size();) {
-    std::size_t j = i;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
     around.clear();
-    for (; j < at_vertex.size() && at_vertex[j].first == at_vertex[i].first; ++j)
-      around.push_back({mesh.labels[at_vertex[j].second], pieces.find(at_vertex[j].second)});
+    for (std::size_t k = first[v]; k < first[v + 1]; ++k)
+      around.push_back({mesh.labels[star[k]], pieces.find(star[k])});
     std::sort(around.begin(), around.end());
     around.erase(std::unique(around.begin(), around.end()), around.end());
     for (std::size_t a = 0; a + 1 < around.size(); ++a)
       if (around[a].first == around[a + 1].first)
         touching[around[a].second] = touching[around[a + 1].second] = true;
-    i = j;
   }
   for (auto& [label, list] : roots) {
     by_label[label].components = list.size();

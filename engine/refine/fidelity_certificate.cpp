@@ -50,11 +50,16 @@ FidelityCertificate certify(const mesh::Mesh4& mesh, const domain::LabelImage4& 
     l.image_pieces = per.components;
     l.voxel_volume = per.volume;
   }
-  for (std::size_t f = 0; f < census.frame_times.size(); ++f) {
-    if (census.frame_volumes[f].empty()) continue;
-    const double t = census.frame_times[f];
-    const auto section = mesh::slice_volumes(mesh, t);
-    for (const auto& [label, voxels] : census.frame_volumes[f]) {
+  std::vector<std::size_t> frames;  // those with voxels
+  std::vector<double> times;
+  for (std::size_t f = 0; f < census.frame_times.size(); ++f)
+    if (!census.frame_volumes[f].empty())
+      frames.push_back(f), times.push_back(census.frame_times[f]);
+  const auto sections = mesh::slice_volumes(mesh, times);
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const double t = times[k];
+    const auto& section = sections[k];
+    for (const auto& [label, voxels] : census.frame_volumes[frames[k]]) {
       const auto it = section.find(label);
       const double error = ((it == section.end() ? 0.0 : it->second) - voxels) / voxels;
       LabelFidelity& l = by_label[label];

@@ -25,6 +25,24 @@ TEST(MeshSlice, KuhnBoxGivesTheBoxVolumeAtEveryInstantInside) {
   EXPECT_TRUE(slice_volumes(m, 1.1).empty());
 }
 
+// The one-pass volumes at many times are the slicer's, time by time: on the Kuhn box with mixed
+// labels, at times inside, on its corners' times and outside.
+TEST(MeshSlice, VolumesAtManyTimesInOnePassAreTheSlicersOneByOne) {
+  Mesh4 m = kuhn_box(2, 3, 0.5);
+  for (std::size_t i = 0; i < m.labels.size(); i += 3) m.labels[i] = 2;
+  const std::vector<double> times{-0.5, 0.0, 0.01, 0.25, 0.5, 0.77, 0.99, 1.0, 1.5};
+  const auto many = slice_volumes(m, times);
+  ASSERT_EQ(many.size(), times.size());
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    const auto one = slice_volumes(m, times[k]);
+    for (Label l : {Label{1}, Label{2}}) {
+      const double a = one.count(l) ? one.at(l) : 0, b = many[k].count(l) ? many[k].at(l) : 0;
+      EXPECT_NEAR(a, b, 1e-12) << "t = " << times[k] << ", label " << l;
+    }
+  }
+  EXPECT_NEAR(many[3].at(1) + many[3].at(2), 3.0, 1e-12);
+}
+
 TEST(MeshSlice, LabelsAreKeptApart) {
   Mesh4 m = kuhn_box(1, 1, 1);
   for (std::size_t i = 0; i < m.labels.size(); i += 2) m.labels[i] = 2;
