@@ -19,7 +19,7 @@ LabelCensus take_census(const LabelImage4& image) {
   // Pieces by flood fill over the eight face neighbors; a byte per voxel marks the visited.
   const std::size_t stride[4] = {1, d[0], d[0] * d[1], d[0] * d[1] * d[2]};
   std::vector<std::uint8_t> seen(n, 0);
-  std::vector<std::size_t> todo;
+  std::vector<std::size_t> frontier;
   for (std::size_t t = 0, i = 0; t < d[3]; ++t)
     for (std::size_t z = 0; z < d[2]; ++z)
       for (std::size_t y = 0; y < d[1]; ++y)
@@ -33,17 +33,17 @@ LabelCensus take_census(const LabelImage4& image) {
           if (seen[i]) continue;
           ++per.components;
           seen[i] = 1;
-          todo.assign(1, i);
-          while (!todo.empty()) {
-            const std::size_t j = todo.back();
-            todo.pop_back();
+          frontier.assign(1, i);
+          while (!frontier.empty()) {
+            const std::size_t j = frontier.back();
+            frontier.pop_back();
             std::size_t c[4] = {j % d[0], j / d[0] % d[1], j / (d[0] * d[1]) % d[2],
                                 j / (d[0] * d[1] * d[2])};
             for (int a = 0; a < 4; ++a) {
               if (c[a] > 0 && !seen[j - stride[a]] && image.at(j - stride[a]) == l)
-                seen[j - stride[a]] = 1, todo.push_back(j - stride[a]);
+                seen[j - stride[a]] = 1, frontier.push_back(j - stride[a]);
               if (c[a] + 1 < d[a] && !seen[j + stride[a]] && image.at(j + stride[a]) == l)
-                seen[j + stride[a]] = 1, todo.push_back(j + stride[a]);
+                seen[j + stride[a]] = 1, frontier.push_back(j + stride[a]);
             }
           }
         }

@@ -201,33 +201,71 @@ TopologyCertificate certify_topology(const Mesh4& mesh) {
     for (std::size_t r : list) by_label[label].touching_components += touching[r];
   }
 
-  // The boundary's triangles, and the links of its edges and vertices.
-  std::vector<std::pair<std::array<Id, 4>, int>> triangles;  // (label, triangle), once per facet
-  std::vector<std::tuple<Label, std::array<Id, 2>, std::array<Id, 2>>> edge_links;
+  // The links of the boundary's vertices first. Where a vertex's link is a 2-sphere (a closed
+  // surface), the links of the edges and triangles through it are links within that surface:
+  // a circle and two points. So only edges and triangles whose every vertex failed need looking
+  // at (on the patients a few thousand of a million).
   std::vector<std::tuple<Label, Id, std::array<Id, 3>>> vertex_links;
+  vertex_links.reserve(4 * boundary.size());
   for (const BoundaryFacet& f : boundary) {
     ++by_label[f.label].boundary_facets;
-    const auto& v = f.v;
     for (int skip = 0; skip < 4; ++skip) {
       std::array<Id, 3> t;
       for (int k = 0, m = 0; k < 4; ++k)
-        if (k != skip) t[m++] = v[k];
-      triangles.push_back({{f.label, t[0], t[1], t[2]}, 0});
-      vertex_links.emplace_back(f.label, v[skip], t);
+        if (k != skip) t[m++] = f.v[k];
+      vertex_links.emplace_back(f.label, f.v[skip], t);
+    }
+  }
+  std::sort(vertex_links.begin(), vertex_links.end());
+  std::vector<std::pair<Label, Id>> failed;  // (label, vertex), sorted
+  std::vector<std::array<Id, 3>> sphere;
+  for (std::size_t i = 0; i < vertex_links.size();) {
+    std::size_t j = i;
+    sphere.clear();
+    for (;
+         j < vertex_links.size() && std::get<0>(vertex_links[j]) == std::get<0>(vertex_links[i]) &&
+         std::get<1>(vertex_links[j]) == std::get<1>(vertex_links[i]);
+         ++j)
+      sphere.push_back(std::get<2>(vertex_links[j]));
+    if (!link_is_sphere(sphere)) {
+      ++by_label[std::get<0>(vertex_links[i])].non_manifold_vertices;
+      failed.push_back({std::get<0>(vertex_links[i]), std::get<1>(vertex_links[i])});
+    }
+    i = j;
+  }
+  vertex_links = {};
+  const auto fails = [&](Label label, Id v) {
+    return std::binary_search(failed.begin(), failed.end(), std::pair<Label, Id>{label, v});
+  };
+
+  std::vector<std::array<Id, 4>> triangles;  // (label, triangle), once per facet
+  std::vector<std::tuple<Label, std::array<Id, 2>, std::array<Id, 2>>> edge_links;
+  for (const BoundaryFacet& f : boundary) {
+    std::array<bool, 4> bad;
+    int bad_count = 0;
+    for (int k = 0; k < 4; ++k) bad_count += bad[k] = fails(f.label, f.v[k]);
+    if (bad_count < 2) continue;
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<Id, 4> t{f.label, 0, 0, 0};
+      bool all_bad = true;
+      for (int k = 0, m = 1; k < 4; ++k)
+        if (k != skip) t[m++] = f.v[k], all_bad &= bad[k];
+      if (all_bad) triangles.push_back(t);
     }
     for (int a = 0; a < 4; ++a)
       for (int b = a + 1; b < 4; ++b) {
+        if (!bad[a] || !bad[b]) continue;
         std::array<Id, 2> rest;
         for (int k = 0, m = 0; k < 4; ++k)
-          if (k != a && k != b) rest[m++] = v[k];
-        edge_links.emplace_back(f.label, std::array<Id, 2>{v[a], v[b]}, rest);
+          if (k != a && k != b) rest[m++] = f.v[k];
+        edge_links.emplace_back(f.label, std::array<Id, 2>{f.v[a], f.v[b]}, rest);
       }
   }
   std::sort(triangles.begin(), triangles.end());
   for (std::size_t i = 0; i < triangles.size();) {
     std::size_t j = i;
-    while (j < triangles.size() && triangles[j].first == triangles[i].first) ++j;
-    if (j - i != 2) ++by_label[static_cast<Label>(triangles[i].first[0])].non_manifold_triangles;
+    while (j < triangles.size() && triangles[j] == triangles[i]) ++j;
+    if (j - i != 2) ++by_label[static_cast<Label>(triangles[i][0])].non_manifold_triangles;
     i = j;
   }
   std::sort(edge_links.begin(), edge_links.end());
@@ -240,19 +278,6 @@ TopologyCertificate certify_topology(const Mesh4& mesh) {
          ++j)
       circle.push_back(std::get<2>(edge_links[j]));
     if (!link_is_circle(circle)) ++by_label[std::get<0>(edge_links[i])].non_manifold_edges;
-    i = j;
-  }
-  std::sort(vertex_links.begin(), vertex_links.end());
-  std::vector<std::array<Id, 3>> sphere;
-  for (std::size_t i = 0; i < vertex_links.size();) {
-    std::size_t j = i;
-    sphere.clear();
-    for (;
-         j < vertex_links.size() && std::get<0>(vertex_links[j]) == std::get<0>(vertex_links[i]) &&
-         std::get<1>(vertex_links[j]) == std::get<1>(vertex_links[i]);
-         ++j)
-      sphere.push_back(std::get<2>(vertex_links[j]));
-    if (!link_is_sphere(sphere)) ++by_label[std::get<0>(vertex_links[i])].non_manifold_vertices;
     i = j;
   }
 

@@ -69,16 +69,16 @@ bool brute_sphere(const std::vector<Ids>& triangles) {
   for (const auto& [e, ts] : by_edge)
     if (ts.size() != 2) return false;
   std::vector<bool> seen(triangles.size(), false);
-  std::queue<std::size_t> todo;
-  todo.push(0);
+  std::queue<std::size_t> frontier;
+  frontier.push(0);
   seen[0] = true;
-  while (!todo.empty()) {
-    const std::size_t t = todo.front();
-    todo.pop();
+  while (!frontier.empty()) {
+    const std::size_t t = frontier.front();
+    frontier.pop();
     for (const auto& [e, ts] : by_edge)
       if (std::includes(triangles[t].begin(), triangles[t].end(), e.begin(), e.end()))
         for (std::size_t u : ts)
-          if (!seen[u]) seen[u] = true, todo.push(u);
+          if (!seen[u]) seen[u] = true, frontier.push(u);
   }
   if (std::find(seen.begin(), seen.end(), false) != seen.end()) return false;
   for (auto v : vertices) {  // the triangles at v: their opposite edges form one cycle
@@ -119,18 +119,18 @@ Brute brute_force(const Mesh4& m) {
   for (std::size_t s = 0; s < n; ++s) {
     if (piece[s] >= 0) continue;
     ++out.components[m.labels[s]];
-    std::queue<std::size_t> todo;
-    todo.push(s);
+    std::queue<std::size_t> frontier;
+    frontier.push(s);
     piece[s] = static_cast<int>(s);
-    while (!todo.empty()) {
-      const std::size_t p = todo.front();
-      todo.pop();
+    while (!frontier.empty()) {
+      const std::size_t p = frontier.front();
+      frontier.pop();
       for (auto v : cells[p]) {
         Ids f = cells[p];
         f.erase(v);
         for (std::size_t q : facet_cells[f])
           if (piece[q] < 0 && m.labels[q] == m.labels[p])
-            piece[q] = static_cast<int>(s), todo.push(q);
+            piece[q] = static_cast<int>(s), frontier.push(q);
       }
     }
   }
