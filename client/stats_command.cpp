@@ -1,44 +1,27 @@
-// stats: the quality table of a .m4d mesh (the paper's Table 2 columns), measured from the file
-// itself, as text or, with --json, as one JSON object.
+// stats: the quality table of a .m4d mesh (the paper's Table 2 columns) and each label's
+// topology (mesh/topology_certificate.h: pieces, non-manifold boundary simplices, 4-volume),
+// measured from the file itself, as text or, with --json, as one JSON object.
 #include <CLI/CLI.hpp>
-#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "delaunay/geometry.h"
 #include "exit_codes.h"
 #include "mesh/mesh_io.h"
 #include "mesh/mesh_stats.h"
+#include "mesh/topology_certificate.h"
 #include "mesh_file_commands.h"
 
 namespace mesh4d::client {
 namespace {
 
-struct LabelSummary {
-  std::uint64_t pentatopes = 0;
-  double volume = 0;  // 4D measure, units³·time
-};
-
-std::map<mesh::Label, LabelSummary> per_label(const mesh::Mesh4& m) {
-  std::map<mesh::Label, LabelSummary> labels;
-  for (std::size_t i = 0; i < m.pentatopes.size(); ++i) {
-    delaunay::Simplex4 s;
-    for (int k = 0; k < 5; ++k) s[k] = m.vertices[m.pentatopes[i][k]];
-    auto& l = labels[m.labels[i]];
-    ++l.pentatopes;
-    l.volume += std::abs(delaunay::signed_volume(s));
-  }
-  return labels;
-}
-
 nlohmann::json distribution(const mesh::Distribution& d) {
   return {{"min", d.min}, {"max", d.max}, {"mean", d.mean}, {"stddev", d.stddev}};
 }
 
-void print_json(const mesh::MeshStats& s, const std::map<mesh::Label, LabelSummary>& labels) {
+void print_json(const mesh::MeshStats& s, const mesh::TopologyCertificate& topology) {
   nlohmann::json j;
   j["vertices"] = s.vertices;
   j["pentatopes"] = s.pentatopes;
@@ -47,12 +30,21 @@ void print_json(const mesh::MeshStats& s, const std::map<mesh::Label, LabelSumma
   j["radius_edge_ratio"] = distribution(s.radius_edge_ratio);
   j["normalized_volume"] = distribution(s.normalized_volume);
   j["normalized_volume_histogram"] = s.normalized_volume_histogram;
-  for (const auto& [label, l] : labels)
-    j["labels"].push_back({{"label", label}, {"pentatopes", l.pentatopes}, {"volume", l.volume}});
+  for (const mesh::LabelTopology& l : topology.labels)
+    j["labels"].push_back({{"label", l.label},
+                           {"pentatopes", l.pentatopes},
+                           {"volume", l.volume},
+                           {"pieces", l.components},
+                           {"touching_pieces", l.touching_components},
+                           {"non_manifold_vertices", l.non_manifold_vertices},
+                           {"non_manifold_edges", l.non_manifold_edges},
+                           {"non_manifold_triangles", l.non_manifold_triangles},
+                           {"boundary_list_mismatches", l.boundary_list_mismatches}});
+  j["manifold"] = topology.manifold();
   std::cout << j.dump(2) << "\n";
 }
 
-void print_table(const mesh::MeshStats& s, const std::map<mesh::Label, LabelSummary>& labels) {
+void print_table(const mesh::MeshStats& s, const mesh::TopologyCertificate& topology) {
   std::printf(
       "vertices             %llu\npentatopes           %llu\n"
       "boundary tetrahedra  %llu\nshortest edge        %.6g\n",
@@ -69,20 +61,24 @@ void print_table(const mesh::MeshStats& s, const std::map<mesh::Label, LabelSumm
     if (s.normalized_volume_histogram[i])
       std::printf("  [%.2f, %.2f%c %llu\n", double(i) / bins, double(i + 1) / bins,
                   i + 1 == bins ? ']' : ')', (unsigned long long)s.normalized_volume_histogram[i]);
-  for (const auto& [label, l] : labels)
-    std::printf("label %-5u %llu pentatopes, 4D volume %.6g\n", unsigned(label),
-                (unsigned long long)l.pentatopes, l.volume);
+  for (const mesh::LabelTopology& l : topology.labels)
+    std::printf(
+        "label %-5u %llu pentatopes, 4D volume %.6g, %zu pieces (%zu touching another), "
+        "non-manifold boundary vertices %zu, edges %zu, triangles %zu\n",
+        unsigned(l.label), (unsigned long long)l.pentatopes, l.volume, l.components,
+        l.touching_components, l.non_manifold_vertices, l.non_manifold_edges,
+        l.non_manifold_triangles);
 }
 
 int run_stats(const std::string& path, bool json) {
   try {
     const mesh::Mesh4 m = mesh::read_m4d(path);
     const mesh::MeshStats s = mesh::compute_stats(m);
-    const auto labels = per_label(m);
+    const mesh::TopologyCertificate topology = mesh::certify_topology(m);
     if (json)
-      print_json(s, labels);
+      print_json(s, topology);
     else
-      print_table(s, labels);
+      print_table(s, topology);
   } catch (const std::exception& e) {
     std::cerr << "mesh4d-client: stats: " << e.what() << "\n";
     return kExitLocal;

@@ -111,6 +111,11 @@ TEST(ClientExport, MfemMeshbAndStatsDescribeTheFetchedMesh) {
   EXPECT_EQ(j["vertices"].get<std::size_t>(), m.vertices.size());
   EXPECT_LT(j["radius_edge_ratio"]["max"].get<double>(), 2.0);
   EXPECT_GE(j["normalized_volume"]["min"].get<double>(), 0.01);
+  // The sphere's one label: one manifold piece, as the certificate computed here says.
+  ASSERT_EQ(j["labels"].size(), 1u);
+  EXPECT_EQ(j["labels"][0]["pieces"].get<std::size_t>(), 1u);
+  EXPECT_EQ(j["labels"][0]["non_manifold_vertices"].get<std::size_t>(), 0u);
+  EXPECT_TRUE(j["manifold"].get<bool>());
   const RunResult table = run_command({MESH4D_CLIENT_BIN, "stats", mesh_path});
   ASSERT_EQ(table.exit_code, 0) << table.output;
   EXPECT_NE(table.output.find("radius-edge ratio"), std::string::npos) << table.output;
