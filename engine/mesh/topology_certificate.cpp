@@ -4,26 +4,16 @@
 #include <array>
 #include <cmath>
 #include <map>
-#include <numeric>
 #include <tuple>
+
+#include "mesh/link_topology.h"
+#include "support/union_find.h"
 
 namespace mesh4d::mesh {
 namespace {
 
 using Id = std::uint32_t;
-
-class UnionFind {
- public:
-  explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
-  std::size_t find(std::size_t i) {
-    while (parent_[i] != i) i = parent_[i] = parent_[parent_[i]];
-    return i;
-  }
-  void join(std::size_t a, std::size_t b) { parent_[find(a)] = find(b); }
-
- private:
-  std::vector<std::size_t> parent_;
-};
+using support::UnionFind;
 
 template <std::size_t N>
 std::array<Id, N> sorted(std::array<Id, N> a) {
@@ -40,59 +30,6 @@ struct BoundaryFacet {
   }
   bool operator==(const BoundaryFacet& o) const { return label == o.label && v == o.v; }
 };
-
-// Whether the triangles around a boundary vertex form a 2-sphere: each of their edges in exactly
-// two of them, connected through shared edges, and Euler characteristic 2.
-bool link_is_sphere(const std::vector<std::array<Id, 3>>& triangles) {
-  std::vector<std::pair<std::array<Id, 2>, std::size_t>> edges;  // (edge, triangle)
-  std::vector<Id> vertices;
-  for (std::size_t t = 0; t < triangles.size(); ++t) {
-    const auto& [a, b, c] = triangles[t];
-    edges.push_back({{a, b}, t});
-    edges.push_back({{a, c}, t});
-    edges.push_back({{b, c}, t});
-    vertices.insert(vertices.end(), {a, b, c});
-  }
-  std::sort(edges.begin(), edges.end());
-  std::sort(vertices.begin(), vertices.end());
-  const std::size_t v = std::unique(vertices.begin(), vertices.end()) - vertices.begin();
-  UnionFind pieces(triangles.size());
-  std::size_t e = 0;
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i;
-    while (j < edges.size() && edges[j].first == edges[i].first) ++j;
-    if (j - i != 2) return false;
-    pieces.join(edges[i].second, edges[i + 1].second);
-    ++e;
-    i = j;
-  }
-  for (std::size_t t = 1; t < triangles.size(); ++t)
-    if (pieces.find(t) != pieces.find(0)) return false;
-  return static_cast<long>(v) - static_cast<long>(e) + static_cast<long>(triangles.size()) == 2;
-}
-
-// Whether the edges around a boundary edge form one circle: every vertex in exactly two of them,
-// and connected.
-bool link_is_circle(const std::vector<std::array<Id, 2>>& edges) {
-  std::vector<Id> ends;
-  for (const auto& [a, b] : edges) ends.insert(ends.end(), {a, b});
-  std::sort(ends.begin(), ends.end());
-  for (std::size_t i = 0; i < ends.size(); i += 2)
-    if (i + 1 >= ends.size() || ends[i] != ends[i + 1] ||
-        (i + 2 < ends.size() && ends[i + 2] == ends[i]))
-      return false;
-  std::vector<Id> vertices(ends.begin(), ends.end());
-  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-  const auto index = [&](Id x) {
-    return static_cast<std::size_t>(std::lower_bound(vertices.begin(), vertices.end(), x) -
-                                    vertices.begin());
-  };
-  UnionFind pieces(vertices.size());
-  for (const auto& [a, b] : edges) pieces.join(index(a), index(b));
-  for (std::size_t i = 1; i < vertices.size(); ++i)
-    if (pieces.find(i) != pieces.find(0)) return false;
-  return true;
-}
 
 double four_volume(const Mesh4& mesh, const std::array<Id, 5>& p) {
   double m[4][4];

@@ -7,7 +7,6 @@
 #pragma once
 
 #include <functional>
-#include <map>
 #include <optional>
 #include <vector>
 
@@ -34,27 +33,11 @@ class PinchRepair {
   /// Tests: every count after the first is also taken by a full scan, and a difference (in the
   /// pinches, or in any triangle's count) throws std::logic_error.
   void set_count_check(bool on) { check_counts_ = on; }
-  /// Tests: every point skipped as refused in an earlier round is computed again, and one that
-  /// would now differ or go in throws std::logic_error.
-  void set_refused_point_check(bool on) { check_refused_ = on; }
-  std::size_t refused_points_rechecked() const { return refused_rechecked_; }
   /// How many counts were taken from facet changes, and how many of those a full scan checked.
   std::size_t counts_from_changes() const { return counts_from_changes_; }
   std::size_t counts_checked() const { return counts_checked_; }
 
  private:
-  // A pinched triangle's repair point that lay within the spacing of a feature vertex, and what
-  // it was computed from: per facet, its pentatope's and the neighbor's vertices (in order: a
-  // pentatope made again from them has the same circumcenter). While they hold, the point is
-  // the same and still refused (feature vertices are never removed), so later rounds at that
-  // spacing skip it (Pat05 at the paper's spacing: late rounds refused nearly all of about
-  // 1,300 points each).
-  struct RefusedPoint {
-    Point4 point;
-    double spacing;
-    std::vector<delaunay::CellId> neighbors;
-    std::vector<mesh4d::VertexId> vertices;
-  };
   // Counts the pinches into known_: a full scan the first time, then only where pentatopes
   // changed since (from the facet log).
   std::size_t count();
@@ -65,8 +48,6 @@ class PinchRepair {
   // t's repair point: the surface center of its largest restricted facet, and a pentatope that
   // holds that facet; false when no facet's Voronoi edge crosses ∂Ω.
   bool repair_point_of(const PinchedTriangle& t, Point4* point, delaunay::CellId* hint) const;
-  // Whether `refused` still describes the facets of `t` (the same pentatopes, neighbors).
-  bool still_refused(const PinchedTriangle& t, const RefusedPoint& refused, double spacing) const;
 
   RefinementState& state_;
   const PinchScan& scan_;
@@ -75,11 +56,7 @@ class PinchRepair {
   bool logging_ = false;                // the facet log is the operations' observer
   std::vector<PinchedTriangle> known_;  // found by the last count, in canonical order
   PinchCounts counts_;                  // every triangle's count, kept from facet changes
-  // The last round's refused points, by their triangle's facets (still_refused()).
-  std::map<std::vector<std::pair<delaunay::CellId, int>>, RefusedPoint> refused_;
   bool check_counts_ = false;
-  bool check_refused_ = false;
-  std::size_t refused_rechecked_ = 0;
   std::size_t counts_from_changes_ = 0;
   std::size_t counts_checked_ = 0;
 };

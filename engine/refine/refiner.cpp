@@ -6,6 +6,7 @@
 //   sequential_refiner / parallel_refiner   the rules applied until none applies
 //   pinch_scan, facet_log, pinch_repair     pinches where labels meet, sampled away
 //   relabeling         the pinches left, closed by moving a few pentatopes to a neighbor label
+//   manifold_scan, manifold_relabeling   every region's boundary a manifold at each vertex
 //   extraction         the output mesh
 #include "refine/refiner.h"
 
@@ -13,6 +14,7 @@
 #include <sstream>
 
 #include "refine/extraction.h"
+#include "refine/manifold_relabeling.h"
 #include "refine/operation.h"
 #include "refine/parallel_refiner.h"
 #include "refine/pinch_repair.h"
@@ -97,8 +99,14 @@ struct Refiner::Pipeline {
     return moved;
   }
 
-  // The pinches left, the statistics and the counters.
+  // The pinches and non-manifold vertices left, the statistics and the counters.
   void finish(RefineResult& result) {
+    if (result.non_manifold_left) {
+      std::ostringstream s;
+      s << result.non_manifold_left << " boundary vertices have a link that is not a 2-sphere in "
+        << "a region's boundary where labels meet; a smaller delta resolves more of them";
+      result.warnings.push_back(s.str());
+    }
     if (const std::size_t pinches = relabeling.current_pinches().size()) {
       std::ostringstream s;
       s << pinches << " boundary triangles are pinched (in four or more boundary tetrahedra of "
@@ -143,6 +151,10 @@ RefineResult Refiner::run(ProgressSink* sink) {
   RefineResult result;
   result.repair_seconds = p.repair_pinches(sink);
   result.relabeled = p.relabel(sink);
+  const ManifoldRelabeling::Outcome manifold = ManifoldRelabeling(p.state, p.scan).run();
+  p.relabeling.invalidate();
+  result.relabeled += manifold.moved;
+  result.non_manifold_left = manifold.left;
   p.meter.report(sink, Phase::extracting, true);
   result.mesh = extract(p.state, result.warnings);
   p.finish(result);
@@ -157,12 +169,6 @@ void Refiner::set_pinch_count_check(bool on) {
 }
 std::size_t Refiner::pinch_counts_checked() const {
   return pipeline_->repair.counts_checked();
-}
-void Refiner::set_refused_point_check(bool on) {
-  pipeline_->repair.set_refused_point_check(on);
-}
-std::size_t Refiner::refused_points_rechecked() const {
-  return pipeline_->repair.refused_points_rechecked();
 }
 
 RefineResult refine(const domain::SurfaceOracle& oracle, const RefineParams& params,

@@ -21,9 +21,12 @@ struct RefineResult {
   mesh::Mesh4 mesh;
   mesh::MeshStats stats;
   std::vector<std::string> warnings;
-  // Pentatopes given a neighbor's label to close a pinch: their circumcenter lies in another
-  // label, within their small circumball of the junction.
+  // Pentatopes given a neighbor's label to close a pinch or make a region's boundary a manifold
+  // at a vertex: their circumcenter lies in another label, within their small circumball of the
+  // junction.
   std::size_t relabeled = 0;
+  // (vertex, label) pairs whose link in the region's boundary is still not a 2-sphere.
+  std::size_t non_manifold_left = 0;
   // The parallel phases' overheads (Progress): all 0 with one thread.
   std::uint64_t rollbacks = 0;
   double contention_seconds = 0;
@@ -51,10 +54,6 @@ class Refiner final {
   /// pinch_counts_checked() says how many were compared.
   void set_pinch_count_check(bool on);
   std::size_t pinch_counts_checked() const;
-  /// Tests: every repair point skipped as refused in an earlier round is computed again, and
-  /// one that would now differ or go in throws std::logic_error; counts those checks.
-  void set_refused_point_check(bool on);
-  std::size_t refused_points_rechecked() const;
 
  private:
   struct Pipeline;

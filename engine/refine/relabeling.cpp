@@ -51,7 +51,7 @@ std::vector<std::vector<Relabeling::Move>> Relabeling::relabel_options(
   return out;
 }
 
-bool Relabeling::movable(CellId c, Label from) const {
+bool may_relabel(const RefinementState& state, CellId c, Label from) {
   // All five vertices on ∂Ω, not only those of the facets that separate labels once c moves: a
   // facet of c between equal labels now may separate them later, when the unpinch loop's
   // drain replaces the neighbor across it by one of the other label, and R5 cannot see that
@@ -61,13 +61,17 @@ bool Relabeling::movable(CellId c, Label from) const {
   // bench row relabels exactly the same pentatopes with this test as with the facets' one.) A
   // pentatope that enters the output (from the background) also meets the quality bounds that
   // R3 and R4 hold inside.
-  const auto& st = state_.tri.store();
-  if (!state_.info[c].finite) return false;
+  const auto& st = state.tri.store();
+  if (!state.info[c].finite) return false;
   for (mesh4d::VertexId v : st.cell(c).v)
     if (st.vertex(v).kind != delaunay::VertexKind::feature) return false;
-  if (from != 0 || state_.label_of(c) == 0) return true;
-  return !state_.info[c].long_radius &&
-         delaunay::normalized_volume(state_.simplex_of(c)) >= state_.params.sliver_bound;
+  if (from != 0 || state.label_of(c) == 0) return true;
+  return !state.info[c].long_radius &&
+         delaunay::normalized_volume(state.simplex_of(c)) >= state.params.sliver_bound;
+}
+
+bool Relabeling::movable(CellId c, Label from) const {
+  return may_relabel(state_, c, from);
 }
 
 std::vector<Label> Relabeling::apply(const std::vector<Move>& moves) {

@@ -20,6 +20,10 @@
 
 namespace mesh4d::refine {
 
+/// Whether pentatope c, which already carries its new label, may have moved there from label
+/// `from`: its five vertices on ∂Ω, and one that enters the output meets the quality bounds.
+bool may_relabel(const RefinementState& state, delaunay::CellId c, domain::Label from);
+
 class Relabeling {
  public:
   /// Removals of free vertices admit their new pentatopes to worker w's queues.

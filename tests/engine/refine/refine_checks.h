@@ -7,6 +7,7 @@
 #include "domain/label_image.h"
 #include "domain/surface_oracle.h"
 #include "mesh/mesh4.h"
+#include "refine/refiner.h"
 
 namespace mesh4d::refine {
 
@@ -17,6 +18,10 @@ constexpr double kDistanceBound = 0.5;
 double output_volume(const mesh::Mesh4& m, mesh::Label label = 0);
 /// 4-volume of a label's voxels.
 double voxel_volume(const domain::LabelImage4& image, domain::Label label);
+
+/// Every warning of `r` is the manifold stage's (failing links left where labels meet), and it
+/// is there exactly when some are left. GoogleTest expectations.
+void expect_only_manifold_warning(const RefineResult& r);
 
 /// Fidelity (the refiner's promise): every boundary-tetrahedron vertex is a feature vertex lying on
 /// ∂Ω, that is, the two largest interpolated label indicators there are equal (to 1e-6); the

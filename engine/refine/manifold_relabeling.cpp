@@ -1,0 +1,295 @@
+#include "refine/manifold_relabeling.h"
+
+#include <algorithm>
+#include <array>
+#include <iterator>
+#include <limits>
+#include <map>
+
+#include "mesh/link_topology.h"
+#include "refine/relabeling.h"
+#include "support/union_find.h"
+
+namespace mesh4d::refine {
+
+using delaunay::CellId;
+using domain::Label;
+using mesh4d::VertexId;
+
+namespace {
+
+// Passes over the failing pairs; on the patients the count stops falling after three or four.
+constexpr int kRounds = 8;
+constexpr int kTiers = 3;  // single pentatopes, adjacent pairs, pieces around the vertex
+// How far from ∂Ω (in Δ) the centroid of a facet that a move puts on the boundary may lie: the
+// bound the tests hold every boundary to.
+constexpr double kMaxSag = 0.5;
+constexpr long kNotAllowed = std::numeric_limits<long>::min();
+
+}  // namespace
+
+const std::vector<CellId>& ManifoldRelabeling::star_of(VertexId u) {
+  auto [it, inserted] = stars_.try_emplace(u);
+  if (inserted) state_.tri.incident_cells(u, it->second);
+  return it->second;
+}
+
+long ManifoldRelabeling::failing_over(const std::vector<Move>& moves,
+                                      const std::vector<Label>& labels, bool current) {
+  std::vector<VertexId> vertices;
+  for (const Move& m : moves)
+    for (VertexId v : state_.tri.store().cell(m.cell).v) vertices.push_back(v);
+  std::sort(vertices.begin(), vertices.end());
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  long failing = 0;
+  for (VertexId v : vertices)
+    for (Label l : labels) {
+      if (!current) {
+        failing += region_link_fails(state_, v, star_of(v), l);
+        continue;
+      }
+      // The labels as they are: the same answer for every option until one is applied.
+      const auto [it, inserted] = current_.try_emplace(std::uint64_t{v} << 16 | l, false);
+      if (inserted) it->second = region_link_fails(state_, v, star_of(v), l);
+      failing += it->second;
+    }
+  return failing;
+}
+
+bool ManifoldRelabeling::new_boundary_near_surface(const std::vector<Move>& moves,
+                                                   const std::vector<Label>& old) const {
+  const auto& st = state_.tri.store();
+  const double bound = kMaxSag * state_.params.delta;
+  const auto old_label = [&](CellId c) {
+    for (std::size_t i = 0; i < moves.size(); ++i)
+      if (moves[i].cell == c) return old[i];
+    return state_.output_label(c);
+  };
+  for (const Move& m : moves) {
+    const auto& cell = st.cell(m.cell);
+    for (int f = 0; f < 5; ++f) {
+      const CellId n = cell.n[f];
+      const bool boundary_now = state_.output_label(n) != m.to;
+      const bool boundary_before = old_label(n) != old_label(m.cell);
+      if (!boundary_now || boundary_before) continue;
+      Point4 centroid{};
+      for (int q = 0; q < 5; ++q)
+        if (q != f)
+          for (int k = 0; k < 4; ++k) centroid[k] += 0.25 * st.point(cell.v[q])[k];
+      // Its vertices lie on ∂Ω: the nearest bounds the distance, and the oracle is asked only
+      // when that is not enough.
+      double d = std::numeric_limits<double>::infinity();
+      for (int q = 0; q < 5; ++q)
+        if (q != f) d = std::min(d, distance(st.point(cell.v[q]), centroid));
+      if (d <= bound) continue;
+      const domain::SurfacePoint z = state_.oracle.closest_surface_point(centroid);
+      if (z.inner == z.outer || distance(z.point, centroid) > bound) return false;
+    }
+  }
+  return true;
+}
+
+long ManifoldRelabeling::gain_of(const std::vector<Move>& moves) {
+  // Only the links of the moved pentatopes' vertices change, and only for the labels they
+  // leave or take.
+  std::vector<Label> labels, old;
+  for (const Move& m : moves) labels.push_back(m.to), labels.push_back(state_.output_label(m.cell));
+  std::sort(labels.begin(), labels.end());
+  labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
+  const long before = failing_over(moves, labels, true);
+  for (const Move& m : moves)
+    old.push_back(state_.output_label(m.cell)), state_.set_label(m.cell, m.to);
+  bool allowed = true;
+  for (std::size_t i = 0; i < moves.size() && allowed; ++i)
+    allowed = may_relabel(state_, moves[i].cell, old[i]);
+  long gain = allowed ? before - failing_over(moves, labels, false) : kNotAllowed;
+  if (gain > 0) {
+    // A move may trade failing vertices for a pinched triangle (whose vertices failed already),
+    // or put a facet far from ∂Ω on the boundary.
+    std::vector<CellId> cells;
+    for (const Move& m : moves) cells.push_back(m.cell);
+    const std::size_t pinched_after = scan_.pinches_on(cells).size();
+    const bool near = new_boundary_near_surface(moves, old);
+    for (std::size_t i = moves.size(); i-- > 0;) state_.set_label(moves[i].cell, old[i]);
+    if (!near || pinched_after > scan_.pinches_on(cells).size()) gain = kNotAllowed;
+    return gain;
+  }
+  for (std::size_t i = moves.size(); i-- > 0;) state_.set_label(moves[i].cell, old[i]);
+  return gain;
+}
+
+std::vector<std::vector<ManifoldRelabeling::Move>> ManifoldRelabeling::options_at(
+    const NonManifoldVertex& f, const std::vector<CellId>& star, int tier,
+    const std::vector<VertexId>& focus) const {
+  const auto& st = state_.tri.store();
+  // Singles and pairs need a pentatope through the trouble (when the link shows where it is).
+  const auto near_trouble = [&](CellId c) {
+    if (focus.empty()) return true;
+    for (VertexId u : st.cell(c).v)
+      if (std::binary_search(focus.begin(), focus.end(), u)) return true;
+    return false;
+  };
+  // The star sorted with positions: a neighbor's place in it by binary search.
+  std::vector<std::pair<CellId, int>> index(star.size());
+  for (std::size_t k = 0; k < star.size(); ++k) index[k] = {star[k], static_cast<int>(k)};
+  std::sort(index.begin(), index.end());
+  const auto in_star = [&](CellId c) {
+    const auto it = std::lower_bound(index.begin(), index.end(), std::pair<CellId, int>{c, -1});
+    return it != index.end() && it->first == c ? it->second : -1;
+  };
+  // Where each pentatope of the star would go: one of L to the most common other label among
+  // its neighbors, any other to L when a neighbor has L; -1: nowhere.
+  std::vector<int> to(star.size(), -1);
+  for (std::size_t k = 0; k < star.size(); ++k) {
+    const bool in = state_.output_label(star[k]) == f.label;
+    std::array<std::pair<Label, int>, 5> votes{};
+    int kinds = 0, best = 0;
+    for (CellId n : st.cell(star[k]).n) {
+      const Label l = state_.output_label(n);
+      if (in ? l == f.label : l != f.label) continue;
+      int i = 0;
+      while (i < kinds && votes[i].first != l) ++i;
+      if (i == kinds) votes[kinds++] = {l, 0};
+      if (++votes[i].second > best) best = votes[i].second, to[k] = l;
+    }
+  }
+  const auto move = [&](std::size_t k) { return Move{star[k], static_cast<Label>(to[k])}; };
+  std::vector<std::vector<Move>> options;
+  if (tier == 0) {
+    for (std::size_t k = 0; k < star.size(); ++k)
+      if (to[k] >= 0 && near_trouble(star[k])) options.push_back({move(k)});
+  } else if (tier == 1) {
+    for (std::size_t k = 0; k < star.size(); ++k) {
+      if (to[k] < 0 || !near_trouble(star[k])) continue;
+      for (CellId n : st.cell(star[k]).n) {
+        const int j = in_star(n);
+        if (j > static_cast<int>(k) && to[j] >= 0) options.push_back({move(k), move(j)});
+      }
+    }
+  } else {
+    // The pieces of L and of the rest around f's vertex, joined through facets that contain it.
+    support::UnionFind piece(star.size());
+    for (std::size_t k = 0; k < star.size(); ++k) {
+      const auto& cell = st.cell(star[k]);
+      const bool in = state_.output_label(star[k]) == f.label;
+      for (int q = 0; q < 5; ++q) {
+        if (cell.v[q] == f.vertex) continue;
+        const int j = in_star(cell.n[q]);
+        if (j >= 0 && (state_.output_label(cell.n[q]) == f.label) == in)
+          piece.join(k, static_cast<std::size_t>(j));
+      }
+    }
+    std::map<std::size_t, std::vector<Move>> pieces;
+    for (std::size_t k = 0; k < star.size(); ++k)
+      if (to[k] >= 0) pieces[piece.find(k)].push_back(move(k));
+    for (auto& [root, moves] : pieces)
+      if (moves.size() > 2) options.push_back(std::move(moves));
+  }
+  return options;
+}
+
+bool ManifoldRelabeling::repair(const NonManifoldVertex& f) {
+  stars_.clear();
+  current_.clear();
+  const std::vector<CellId> star = star_of(f.vertex);
+  if (!region_link_fails(state_, f.vertex, star, f.label)) return false;  // an earlier move
+  const std::vector<VertexId> focus = link_trouble(state_, f.vertex, star, f.label);
+  // The cheapest tier that helps: most failures are one pentatope too many or too few.
+  // Only options that mend f itself are weighed in full (one link instead of dozens).
+  // Every option moves its pentatopes into or out of L, which flips whether each of their
+  // link faces bounds L: f's new link is the old one xor those faces.
+  std::vector<std::array<std::uint32_t, 3>> link, faces, after;
+  std::size_t inside = 0;
+  region_link(state_, f.vertex, star, f.label, link, &inside);
+  std::sort(link.begin(), link.end());
+  const auto mends_f = [&](const std::vector<Move>& option) {
+    faces.clear();
+    long change = 0;
+    for (const Move& m : option) {
+      const auto& cell = state_.tri.store().cell(m.cell);
+      change += state_.output_label(m.cell) == f.label ? -1 : 1;
+      for (int q = 0; q < 5; ++q) {
+        if (cell.v[q] == f.vertex) continue;
+        std::array<std::uint32_t, 3> t;
+        for (int k = 0, n = 0; k < 5; ++k)
+          if (k != q && cell.v[k] != f.vertex) t[n++] = cell.v[k];
+        std::sort(t.begin(), t.end());
+        faces.push_back(t);
+      }
+    }
+    const long now = static_cast<long>(inside) + change;
+    if (now == 0 || now == static_cast<long>(star.size())) return true;  // no boundary left at v
+    std::sort(faces.begin(), faces.end());
+    // A face shared by two moved pentatopes flips twice.
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < faces.size();)
+      if (i + 1 < faces.size() && faces[i] == faces[i + 1]) {
+        i += 2;
+      } else {
+        faces[kept++] = faces[i++];
+      }
+    faces.resize(kept);
+    after.clear();
+    std::set_symmetric_difference(link.begin(), link.end(), faces.begin(), faces.end(),
+                                  std::back_inserter(after));
+    return mesh::link_is_sphere(after);
+  };
+  for (int tier = 0; tier < kTiers; ++tier) {
+    const auto options = options_at(f, star, tier, focus);
+    long best_gain = 0;
+    const std::vector<Move>* best = nullptr;
+    for (const auto& option : options) {
+      if (!mends_f(option)) continue;
+      if (const long gain = gain_of(option); gain > best_gain) best_gain = gain, best = &option;
+    }
+    if (best) {
+      for (const Move& m : *best) {
+        state_.set_label(m.cell, m.to);
+        const auto& v = state_.tri.store().cell(m.cell).v;
+        touched_.insert(touched_.end(), std::begin(v), std::end(v));
+      }
+      return true;
+    }
+  }
+  return false;
+}
+
+ManifoldRelabeling::Outcome ManifoldRelabeling::run() {
+  Outcome outcome;
+  std::vector<NonManifoldVertex> failing = find_non_manifold_vertices(state_);
+  std::vector<VertexId> retry;  // vertices near this round's moves
+  for (int round = 0; round < kRounds && !failing.empty(); ++round) {
+    std::size_t moved = 0;
+    for (const NonManifoldVertex& f : failing)
+      if (round == 0 || std::binary_search(retry.begin(), retry.end(), f.vertex))
+        moved += repair(f);
+    outcome.moved += moved;
+    // Only the moved pentatopes' vertices have new links: they and the failing ones are looked
+    // at again, not the whole boundary. A pair that found no move is tried again only where a
+    // move changed a star it reads (its vertex's star holds the moved pentatope's vertices).
+    std::sort(touched_.begin(), touched_.end());
+    touched_.erase(std::unique(touched_.begin(), touched_.end()), touched_.end());
+    std::vector<VertexId> look = touched_;
+    for (const NonManifoldVertex& f : failing) look.push_back(f.vertex);
+    std::sort(look.begin(), look.end());
+    look.erase(std::unique(look.begin(), look.end()), look.end());
+    failing.clear();
+    retry.clear();
+    std::vector<CellId> star;
+    for (VertexId v : look) {
+      non_manifold_labels_at(state_, v, star, &failing);
+      if (std::binary_search(touched_.begin(), touched_.end(), v))
+        for (CellId c : star)
+          for (VertexId u : state_.tri.store().cell(c).v) retry.push_back(u);
+    }
+    std::sort(retry.begin(), retry.end());
+    retry.erase(std::unique(retry.begin(), retry.end()), retry.end());
+    touched_.clear();
+    if (moved == 0) break;
+  }
+  stars_.clear();
+  outcome.left = failing.size();
+  return outcome;
+}
+
+}  // namespace mesh4d::refine

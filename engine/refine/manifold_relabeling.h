@@ -1,0 +1,71 @@
+// Manifold regions (docs/algorithm.md, "Where labels meet"): where a region's boundary is still
+// not a closed 3-manifold at a vertex after the pinch repair and relabeling (manifold_scan.h),
+// pentatopes of that vertex's star move to a neighbor's label while that lowers the number of
+// failing (vertex, label) pairs around them: each pentatope alone, then facet-adjacent pairs,
+// then each piece of the label (or of the rest) around the vertex as a whole. This decides,
+// once, whether two parts that touch at a vertex or edge join or separate. The moves obey
+// relabeling.h's rules (all five vertices on ∂Ω; a pentatope entering the output meets the
+// quality bounds), every facet a move puts on a boundary has its centroid within Δ/2 of ∂Ω, no
+// move pinches more triangles, and the triangulation does not change.
+//
+// Tried first and dropped: sampling the restricted facets through failing vertices at their
+// surface centers and running the rules again, as the pinch repair does for triangles (Mesh_3's
+// manifold criterion asked per region). Near three-label junctions the new points made new
+// failures faster than they removed them: on the ventricle, 340 failing pairs grew to 718 after
+// 1,876 points.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "refine/manifold_scan.h"
+#include "refine/pinch_scan.h"
+
+namespace mesh4d::refine {
+
+class ManifoldRelabeling {
+ public:
+  ManifoldRelabeling(RefinementState& state, const PinchScan& scan) : state_(state), scan_(scan) {}
+
+  struct Outcome {
+    std::size_t moved = 0;  // pentatopes that changed label
+    std::size_t left = 0;   // failing (vertex, label) pairs left
+  };
+  Outcome run();
+
+ private:
+  struct Move {
+    delaunay::CellId cell;
+    domain::Label to;
+  };
+  // One failing pair: the best moves found around it, applied; false when none helps.
+  bool repair(const NonManifoldVertex& f);
+  // The star of u, kept while one failing vertex is repaired (labels change, stars do not).
+  const std::vector<delaunay::CellId>& star_of(mesh4d::VertexId u);
+  // Failing (vertex, label) pairs over the moved pentatopes' vertices and the labels involved;
+  // `current`: with the labels as they are (kept in current_ while f is repaired).
+  long failing_over(const std::vector<Move>& moves, const std::vector<domain::Label>& labels,
+                    bool current);
+  // How many failing pairs `moves` removes; the least long when one of them may not move, or
+  // when they would pinch a triangle more.
+  long gain_of(const std::vector<Move>& moves);
+  // Whether every facet that `moves` (applied; `old` their labels before) put on a region's
+  // boundary has its centroid within kMaxSag·Δ of ∂Ω.
+  bool new_boundary_near_surface(const std::vector<Move>& moves,
+                                 const std::vector<domain::Label>& old) const;
+  // The options of one tier at f: 0 single pentatopes, 1 facet-adjacent pairs (both through one
+  // of the `focus` vertices when there are any: link_trouble()), 2 the pieces.
+  std::vector<std::vector<Move>> options_at(const NonManifoldVertex& f,
+                                            const std::vector<delaunay::CellId>& star, int tier,
+                                            const std::vector<mesh4d::VertexId>& focus) const;
+
+  RefinementState& state_;
+  const PinchScan& scan_;
+  std::unordered_map<mesh4d::VertexId, std::vector<delaunay::CellId>> stars_;
+  std::unordered_map<std::uint64_t, bool> current_;  // (vertex << 16 | label) -> fails
+  std::vector<mesh4d::VertexId> touched_;            // vertices of the pentatopes moved this round
+};
+
+}  // namespace mesh4d::refine

@@ -1,0 +1,159 @@
+#include "refine/manifold_scan.h"
+
+#include <algorithm>
+#include <array>
+
+#include "mesh/link_topology.h"
+#include "support/parallel_parts.h"
+
+namespace mesh4d::refine {
+
+using delaunay::CellId;
+using domain::Label;
+using mesh4d::VertexId;
+
+namespace {
+
+constexpr std::size_t kScanPerThread = 4096;  // vertices; fewer stay on one thread
+
+}  // namespace
+
+void region_link(const RefinementState& state, VertexId v, std::span<const CellId> star, Label l,
+                 std::vector<std::array<std::uint32_t, 3>>& link, std::size_t* inside_count) {
+  const auto& st = state.tri.store();
+  link.clear();
+  std::size_t inside = 0;
+  for (CellId c : star) {
+    if (state.output_label(c) != l) continue;
+    ++inside;
+    const auto& cell = st.cell(c);
+    for (int f = 0; f < 5; ++f) {
+      if (cell.v[f] == v || state.output_label(cell.n[f]) == l) continue;
+      std::array<std::uint32_t, 3> t;
+      for (int q = 0, m = 0; q < 5; ++q)
+        if (q != f && cell.v[q] != v) t[m++] = cell.v[q];
+      std::sort(t.begin(), t.end());
+      link.push_back(t);
+    }
+  }
+  *inside_count = inside;
+}
+
+bool region_link_fails(const RefinementState& state, VertexId v, std::span<const CellId> star,
+                       Label l) {
+  if (l == 0) return false;  // not output
+  thread_local std::vector<std::array<std::uint32_t, 3>> link;
+  std::size_t inside = 0;
+  region_link(state, v, star, l, link, &inside);
+  if (inside == 0 || inside == star.size()) return false;
+  return !mesh::link_is_sphere(link);
+}
+
+std::vector<VertexId> link_trouble(const RefinementState& state, VertexId v,
+                                   std::span<const CellId> star, Label l) {
+  std::vector<std::array<std::uint32_t, 3>> link;
+  std::size_t inside = 0;
+  region_link(state, v, star, l, link, &inside);
+  // (w, the edge opposite w) for every corner of every triangle, grouped by w.
+  std::vector<std::pair<VertexId, std::array<std::uint32_t, 2>>> around;
+  for (const auto& [a, b, c] : link) {
+    around.push_back({a, {b, c}});
+    around.push_back({b, {a, c}});
+    around.push_back({c, {a, b}});
+  }
+  std::sort(around.begin(), around.end());
+  std::vector<VertexId> trouble;
+  std::vector<std::array<std::uint32_t, 2>> umbrella;
+  for (std::size_t i = 0; i < around.size();) {
+    std::size_t j = i;
+    umbrella.clear();
+    for (; j < around.size() && around[j].first == around[i].first; ++j)
+      umbrella.push_back(around[j].second);
+    if (!mesh::link_is_circle(umbrella)) trouble.push_back(around[i].first);
+    i = j;
+  }
+  return trouble;
+}
+
+namespace {
+
+// Appends the failing labels at v, whose star is given.
+void failing_labels(const RefinementState& state, VertexId v, std::span<const CellId> star,
+                    std::vector<NonManifoldVertex>* out) {
+  const std::size_t first = out->size();
+  std::array<Label, 8> seen{};
+  std::size_t count = 0;
+  for (CellId c : star) {
+    const Label l = state.output_label(c);
+    if (l == 0 || std::find(seen.begin(), seen.begin() + count, l) != seen.begin() + count)
+      continue;
+    if (count < seen.size()) seen[count++] = l;
+    if (region_link_fails(state, v, star, l)) out->push_back({v, l});
+  }
+  std::sort(
+      out->begin() + static_cast<std::ptrdiff_t>(first), out->end(),
+      [](const NonManifoldVertex& a, const NonManifoldVertex& b) { return a.label < b.label; });
+}
+
+}  // namespace
+
+void non_manifold_labels_at(const RefinementState& state, VertexId v, std::vector<CellId>& star,
+                            std::vector<NonManifoldVertex>* out) {
+  state.tri.incident_cells(v, star);
+  failing_labels(state, v, star, out);
+}
+
+std::vector<NonManifoldVertex> find_non_manifold_vertices(const RefinementState& state) {
+  // The boundary vertices (those of a pentatope with a neighbor of another label), then their
+  // stars from one pass over the pentatopes (a counting sort: a star search per vertex cost
+  // three times as much).
+  const auto& st = state.tri.store();
+  const std::size_t slots = st.cell_slots();
+  std::vector<std::uint32_t> first(st.vertex_slots() + 1, 0);  // 1 + count, then offsets
+  for (CellId c = 0; c < slots; ++c) {
+    if (!st.is_live(c)) continue;
+    const Label l = state.output_label(c);
+    if (l == 0) continue;
+    const auto& cell = st.cell(c);
+    for (int f = 0; f < 5; ++f)
+      if (state.output_label(cell.n[f]) != l) {
+        for (VertexId v : cell.v) first[v + 1] = 1;
+        break;
+      }
+  }
+  std::vector<VertexId> boundary;
+  for (VertexId v = 0; v < st.vertex_slots(); ++v)
+    if (first[v + 1]) boundary.push_back(v);
+  std::vector<std::uint8_t> marked(st.vertex_slots(), 0);
+  for (VertexId v : boundary) marked[v] = 1, first[v + 1] = 0;
+  for (CellId c = 0; c < slots; ++c)
+    if (st.is_live(c))
+      for (VertexId v : st.cell(c).v)
+        if (marked[v]) ++first[v + 1];
+  for (std::size_t v = 0; v + 1 < first.size(); ++v) first[v + 1] += first[v];
+  std::vector<CellId> stars(first.back());
+  {
+    std::vector<std::uint32_t> next(first.begin(), first.end() - 1);
+    for (CellId c = 0; c < slots; ++c)
+      if (st.is_live(c))
+        for (VertexId v : st.cell(c).v)
+          if (marked[v]) stars[next[v]++] = c;
+  }
+
+  const unsigned parts = static_cast<unsigned>(std::min<std::size_t>(
+      state.params.threads, std::max<std::size_t>(1, boundary.size() / kScanPerThread)));
+  std::vector<std::vector<NonManifoldVertex>> found(parts);
+  support::run_parts(parts, [&](unsigned part) {
+    const auto [begin, end] = support::part_range(boundary.size(), part, parts);
+    for (std::size_t i = begin; i < end; ++i) {
+      const VertexId v = boundary[i];
+      failing_labels(state, v, std::span(stars).subspan(first[v], first[v + 1] - first[v]),
+                     &found[part]);
+    }
+  });
+  std::vector<NonManifoldVertex> all;
+  for (auto& f : found) all.insert(all.end(), f.begin(), f.end());
+  return all;
+}
+
+}  // namespace mesh4d::refine
