@@ -23,6 +23,7 @@
 #include "bench_util.h"
 #include "domain/image_io.h"
 #include "domain/phantoms.h"
+#include "domain/segmentation_cleanup.h"
 #include "domain/surface_oracle.h"
 #include "frames_comparison.h"
 #include "mesh/mesh_check.h"
@@ -42,7 +43,12 @@ struct Row {
 
 using mesh4d::bench::status_kb;
 
-// Runs in a child: the oracle and refinement of `image` with `params`; fixed-size results only.
+// --min-island-voxels N: the segmentation cleanup's threshold (the service's default otherwise;
+// 0: none).
+std::size_t g_min_island_voxels = domain::kDefaultMinIslandVoxels;
+
+// Runs in a child: the cleanup, oracle and refinement of `image` with `params`; fixed-size
+// results only.
 struct Flat {
   std::uint64_t vertices, pentatopes, boundary, insertions, off_surface, pinched, relabeled,
       fingerprint;
@@ -60,6 +66,7 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
   const auto result = mesh4d::bench::run_in_child<Flat>([&] {
     domain::LabelImage4 closed = image;
     domain::validate_and_close(closed);
+    domain::remove_small_pieces(closed, g_min_island_voxels);
     const domain::SurfaceOracle oracle(closed);
     refine::Refiner refiner(oracle, params);
     const auto r = refiner.run();
@@ -208,6 +215,8 @@ void print_over_seeds() {
 int main(int argc, char** argv) {
   for (int i = 1; i + 1 < argc; i += 2) {
     if (std::strcmp(argv[i], "--only") == 0) g_only = argv[i + 1];
+    if (std::strcmp(argv[i], "--min-island-voxels") == 0)
+      g_min_island_voxels = std::strtoull(argv[i + 1], nullptr, 10);
     if (std::strcmp(argv[i], "--junction-spacing") == 0)
       g_junction_spacing = std::atof(argv[i + 1]);
     if (std::strcmp(argv[i], "--seed") == 0) g_seed = std::strtoull(argv[i + 1], nullptr, 10);

@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <random>
 
 #include "connection.h"
@@ -26,6 +27,7 @@ struct SubmitOptions {
   double delta = 0, rho = 0, time_scale = 1;
   unsigned threads = 0;
   unsigned extend_time = 0;
+  std::optional<unsigned> min_island_voxels;
   std::string name, request_id, out;
   bool wait = false;
   bool strict = false;
@@ -49,6 +51,7 @@ void fill_params(const SubmitOptions& o, v1::RefineParams* p) {
   if (o.threads) p->set_threads(o.threads);
   if (o.extend_time) p->set_extend_time_frames(o.extend_time);
   if (o.strict) p->set_strict(true);
+  if (o.min_island_voxels) p->set_min_island_voxels(*o.min_island_voxels);
 }
 
 std::string random_request_id() {
@@ -116,6 +119,9 @@ void setup_submit_command(CLI::App& app, const GlobalOptions& global, int* exit_
                   "repeat the first and last frames N times so that they are meshed faithfully "
                   "(about delta / time scale; the mesh spans N more frames at each end)")
       ->check(CLI::Range(0u, 64u));
+  cmd->add_option("--min-island-voxels", o->min_island_voxels,
+                  "cleanup: pieces of a label (and pockets of background) smaller than this "
+                  "many voxels take their neighbors' label; 0: none (default 81)");
   cmd->add_option("--time-scale", o->time_scale,
                   "physical units per frame along t (for --frames; overrides a 4D file's)")
       ->check(CLI::PositiveNumber);

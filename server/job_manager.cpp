@@ -7,6 +7,7 @@
 #include <random>
 #include <sstream>
 
+#include "domain/segmentation_cleanup.h"
 #include "domain/time_extension.h"
 #include "job_log.h"
 #include "job_runner.h"
@@ -180,6 +181,9 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
   *job.mutable_params() = to_proto(params, threads);
   job.mutable_params()->set_extend_time_frames(spec.params().extend_time_frames());
   job.mutable_params()->set_strict(spec.params().strict());
+  job.mutable_params()->set_min_island_voxels(spec.params().has_min_island_voxels()
+                                                  ? spec.params().min_island_voxels()
+                                                  : domain::kDefaultMinIslandVoxels);
   *job.mutable_created() = TimeUtil::GetCurrentTime();
   for (auto& w : warnings) job.add_warnings(w);
   try {
@@ -434,7 +438,7 @@ void JobManager::run(const std::string& id) {
   Entry* entry;
   v1::ImageHeader header;
   refine::RefineParams params;
-  std::size_t extend_time_frames = 0;
+  ImagePreparation preparation;
   bool strict = false;
   {
     std::lock_guard lock(mu_);
@@ -442,7 +446,8 @@ void JobManager::run(const std::string& id) {
     set_state(*entry, v1::JOB_STATE_RUNNING);
     header = entry->job.image();
     params = to_engine(entry->job.params());
-    extend_time_frames = entry->job.params().extend_time_frames();
+    preparation.extend_time_frames = entry->job.params().extend_time_frames();
+    preparation.min_island_voxels = entry->job.params().min_island_voxels();
     strict = entry->job.params().strict();
   }
   log_job(spdlog::level::info, id, "running");
@@ -451,7 +456,7 @@ void JobManager::run(const std::string& id) {
   v1::JobState end = v1::JOB_STATE_FAILED;
   try {
     const std::string input = store_.read_input(id);
-    JobOutcome outcome = runner_(header, params, extend_time_frames, input, sink);
+    JobOutcome outcome = runner_(header, params, preparation, input, sink);
     const std::vector<std::string> defects = outcome.certificate.defects();
     if (strict && !defects.empty()) {
       // The certificate goes with the failed job, for the user to see why.

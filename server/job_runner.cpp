@@ -1,5 +1,6 @@
 #include "job_runner.h"
 
+#include "domain/segmentation_cleanup.h"
 #include "domain/surface_oracle.h"
 #include "mesh/mesh_io.h"
 #include "refine/refiner.h"
@@ -27,14 +28,17 @@ class LastProgress final : public refine::ProgressSink {
 }  // namespace
 
 JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& params,
-                   std::size_t extend_time_frames, std::string_view input,
+                   const ImagePreparation& preparation, std::string_view input,
                    refine::ProgressSink& sink) {
   JobOutcome out;
   refine::Progress phase;
   phase.phase = refine::Phase::loading;
   sink.on_progress(phase);
-  const domain::LabelImage4 image =
-      wire::decode_upload(header, input, &out.warnings, extend_time_frames);
+  domain::LabelImage4 image =
+      wire::decode_upload(header, input, &out.warnings, preparation.extend_time_frames);
+  for (const std::string& w : domain::remove_small_pieces(image, preparation.min_island_voxels)
+                                  .warnings(preparation.min_island_voxels))
+    out.warnings.push_back(w);
   if (sink.should_abort()) throw refine::Cancelled();
   phase.phase = refine::Phase::distance_map;
   sink.on_progress(phase);

@@ -24,10 +24,17 @@ struct JobOutcome {
   refine::FidelityCertificate certificate;  // the mesh against the image meshed
 };
 
+/// What is done to the image before it is meshed (RefineParams.extend_time_frames and
+/// .min_island_voxels in the proto).
+struct ImagePreparation {
+  std::size_t extend_time_frames = 0;
+  std::size_t min_island_voxels = 0;
+};
+
 /// Throws refine::Cancelled, refine::BudgetExceeded, wire::ServiceError (bad input) or
-/// std::exception. `extend_time_frames`: see RefineParams.extend_time_frames in the proto.
+/// std::exception.
 JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& params,
-                   std::size_t extend_time_frames, std::string_view input,
+                   const ImagePreparation& preparation, std::string_view input,
                    refine::ProgressSink& sink);
 
 /// What runs a job: run_job, or a stand-in in the job manager's tests.

@@ -5,11 +5,13 @@
 #include <algorithm>
 #include <csignal>
 #include <future>
+#include <optional>
 #include <set>
 #include <thread>
 
 #include "domain/image_io.h"
 #include "domain/phantoms.h"
+#include "domain/segmentation_cleanup.h"
 #include "domain/surface_oracle.h"
 #include "mesh/mesh_check.h"
 #include "mesh/mesh_io.h"
@@ -88,6 +90,43 @@ TEST(JobService, EveryJobCarriesItsCertificateAndStrictFailsOnADefect) {
   EXPECT_EQ(sphere.state(), v1::JOB_STATE_SUCCEEDED) << sphere.error();
   EXPECT_EQ(defects(sphere), 0u);
   EXPECT_TRUE(sphere.params().strict());
+}
+
+// The cleanup before meshing: a one-voxel speck of another label is removed by default (the
+// job records the threshold used and warns), and kept with min_island_voxels = 0.
+TEST(JobService, SmallIslandsAreCleanedByDefaultAndSaidSo) {
+  const std::string dir = make_temp_dir("mesh4d-cleanup");
+  RunningServer server(dir + "/data");
+  ASSERT_FALSE(server.address().empty());
+  auto stub = server.stub();
+  auto image = domain::hypersphere_phantom({16, 16, 16, 16}, {1, 1, 1, 1}, 5);
+  image.set(1, 1, 1, 1, 2);
+  const auto run = [&](std::optional<unsigned> threshold, const std::string& request_id) {
+    Upload u = make_upload(image, 3, request_id);
+    if (threshold) u.spec.mutable_params()->set_min_island_voxels(*threshold);
+    v1::SubmitJobResponse submitted;
+    EXPECT_TRUE(submit(*stub, u.spec, u.data, &submitted).ok());
+    return wait_until_done(*stub, submitted.job().id());
+  };
+  const auto cleanup_warnings = [](const v1::Job& job) {
+    std::vector<std::string> out;
+    for (const auto& w : job.warnings())
+      if (w.rfind("segmentation cleanup: ", 0) == 0) out.push_back(w);
+    return out;
+  };
+  const v1::Job cleaned = run(std::nullopt, "cleanup-1");
+  ASSERT_EQ(cleaned.state(), v1::JOB_STATE_SUCCEEDED) << cleaned.error();
+  EXPECT_TRUE(cleaned.params().has_min_island_voxels());
+  EXPECT_EQ(cleaned.params().min_island_voxels(), domain::kDefaultMinIslandVoxels);
+  const auto warnings = cleanup_warnings(cleaned);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("label 2: 1 islands removed (1 voxels"), std::string::npos)
+      << warnings[0];
+  EXPECT_EQ(cleaned.stats().certificate_size(), 1) << "label 2 is gone from the image meshed";
+  const v1::Job kept = run(0u, "cleanup-2");
+  ASSERT_EQ(kept.state(), v1::JOB_STATE_SUCCEEDED) << kept.error();
+  EXPECT_EQ(kept.params().min_island_voxels(), 0u);
+  EXPECT_TRUE(cleanup_warnings(kept).empty());
 }
 
 TEST(JobService, SubmitWatchFetchWithTheRealClient) {

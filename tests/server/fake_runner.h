@@ -19,8 +19,9 @@ class FakeRunner {
   static constexpr std::uint64_t kFailingSeed = 666;
 
   JobRunner runner() {
-    return [this](const v1::ImageHeader&, const refine::RefineParams& params, std::size_t,
-                  std::string_view, refine::ProgressSink& sink) { return run(params, sink); };
+    return
+        [this](const v1::ImageHeader&, const refine::RefineParams& params, const ImagePreparation&,
+               std::string_view, refine::ProgressSink& sink) { return run(params, sink); };
   }
   void release() {
     std::lock_guard lock(mu_);
