@@ -1,5 +1,6 @@
 #include "domain/phantoms.h"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <numbers>
@@ -84,8 +85,70 @@ LabelImage4 merging_blobs_phantom(const Dims4& dims, const Vec4& spacing) {
   });
 }
 
+LabelImage4 thin_wall_phantom(const Dims4& dims, const Vec4& spacing) {
+  const Point4 c = center_of(dims, spacing);
+  const double r = 8 * spacing[0], wall = spacing[0];
+  return voxelize(dims, spacing, [&](const Point4& p) -> Label {
+    double r2 = 0;
+    for (int a = 0; a < 4; ++a) r2 += (p[a] - c[a]) * (p[a] - c[a]);
+    return r2 < r * r ? 1 : r2 < (r + wall) * (r + wall) ? 2 : 0;
+  });
+}
+
+LabelImage4 checkerboard_phantom(const Dims4& dims, const Vec4& spacing) {
+  // Voxel x: [3, 10) one block, [12, 19) the other; x = 10 and 11 alternate so that a voxel of
+  // layer 10 has label 1 where y + z + t is even and one of layer 11 where it is odd.
+  LabelImage4 image(dims, spacing);
+  for (std::size_t t = 3; t + 3 < dims[3]; ++t)
+    for (std::size_t z = 3; z + 3 < dims[2]; ++z)
+      for (std::size_t y = 3; y + 3 < dims[1]; ++y)
+        for (std::size_t x = 3; x < 19 && x + 3 < dims[0]; ++x) {
+          const bool even = (y + z + t) % 2 == 0;
+          if (x < 10 || x >= 12 || (x == 10 && even) || (x == 11 && !even))
+            image.set(x, y, z, t, 1);
+        }
+  return image;
+}
+
+LabelImage4 corner_contact_phantom(const Dims4& dims, const Vec4& spacing) {
+  LabelImage4 image(dims, spacing);
+  const std::size_t m = dims[0] / 2;
+  for (std::size_t t = 2; t + 2 < dims[3]; ++t)
+    for (std::size_t z = 2; z + 2 < dims[2]; ++z)
+      for (std::size_t y = 2; y + 2 < dims[1]; ++y)
+        for (std::size_t x = 2; x + 2 < dims[0]; ++x) {
+          const bool low = x < m && y < m && z < m && t < m;
+          const bool high = x >= m && y >= m && z >= m && t >= m;
+          if (low) image.set(x, y, z, t, 1);
+          if (high) image.set(x, y, z, t, 2);
+        }
+  return image;
+}
+
+LabelImage4 island_phantom(const Dims4& dims, const Vec4& spacing) {
+  LabelImage4 image = hypersphere_phantom(dims, spacing, 8 * spacing[0]);
+  image.set(2, 2, 2, 2, 1);
+  image.set(dims[0] / 2, dims[1] / 2, dims[2] / 2, dims[3] / 2, 0);
+  return image;
+}
+
+LabelImage4 moving_junction_phantom(const Dims4& dims, const Vec4& spacing) {
+  const Point4 c = center_of(dims, spacing);
+  const double r = 9 * spacing[0];
+  const double extent_t = std::max(double(dims[3] - 1) * spacing[3], 1e-9);
+  return voxelize(dims, spacing, [&](const Point4& p) -> Label {
+    const double dx = p[0] - c[0], dy = p[1] - c[1], dz = p[2] - c[2];
+    if (dx * dx + dy * dy + dz * dz >= r * r) return 0;
+    const double turn = 2 * std::numbers::pi / 3 * p[3] / extent_t;
+    double angle = std::atan2(dy, dx) - turn;
+    angle -= 2 * std::numbers::pi * std::floor(angle / (2 * std::numbers::pi));
+    return static_cast<Label>(1 + static_cast<int>(angle / (2 * std::numbers::pi / 3)) % 3);
+  });
+}
+
 std::vector<std::string> phantom_names() {
-  return {"hypersphere", "hypertorus", "ventricle", "blobs"};
+  return {"hypersphere",  "hypertorus",     "ventricle", "blobs",          "thin-wall",
+          "checkerboard", "corner-contact", "island",    "moving-junction"};
 }
 
 LabelImage4 make_phantom(const std::string& name) {
@@ -93,8 +156,14 @@ LabelImage4 make_phantom(const std::string& name) {
   if (name == "hypertorus") return hypertorus_phantom();
   if (name == "ventricle") return beating_ventricle_phantom();
   if (name == "blobs") return merging_blobs_phantom();
-  throw std::invalid_argument("unknown phantom '" + name +
-                              "' (known: hypersphere, hypertorus, ventricle, blobs)");
+  if (name == "thin-wall") return thin_wall_phantom();
+  if (name == "checkerboard") return checkerboard_phantom();
+  if (name == "corner-contact") return corner_contact_phantom();
+  if (name == "island") return island_phantom();
+  if (name == "moving-junction") return moving_junction_phantom();
+  std::string known;
+  for (const std::string& n : phantom_names()) known += (known.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown phantom '" + name + "' (known: " + known + ")");
 }
 
 }  // namespace mesh4d::domain

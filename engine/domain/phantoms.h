@@ -30,7 +30,36 @@ LabelImage4 beating_ventricle_phantom(const Dims4& dims = {100, 100, 44, 15},
 LabelImage4 merging_blobs_phantom(const Dims4& dims = {48, 32, 32, 16},
                                   const Vec4& spacing = {1, 1, 1, 1});
 
-/// The phantoms by name: hypersphere, hypertorus, ventricle, blobs.
+// Phantoms that provoke what the topology certificate counts (docs/algorithm.md, "Where labels
+// meet"); 24⁴ voxels of 1 unit unless given.
+
+/// A ball of label 1 (radius 8) in a shell of label 2 one voxel thick: a wall thinner than any
+/// Δ above a voxel.
+LabelImage4 thin_wall_phantom(const Dims4& dims = {24, 24, 24, 24},
+                              const Vec4& spacing = {1, 1, 1, 1});
+
+/// Two blocks of label 1 joined only through a checkerboard layer: across it, voxels of label 1
+/// meet only at edges and corners (diagonal contacts), so the image has two face-connected
+/// pieces of label 1 that touch diagonally everywhere along the layer.
+LabelImage4 checkerboard_phantom(const Dims4& dims = {24, 24, 24, 24},
+                                 const Vec4& spacing = {1, 1, 1, 1});
+
+/// A block of label 1 and a block of label 2 meeting at one voxel corner only.
+LabelImage4 corner_contact_phantom(const Dims4& dims = {24, 24, 24, 24},
+                                   const Vec4& spacing = {1, 1, 1, 1});
+
+/// A ball of label 1 (radius 8) with a one-voxel island of label 1 outside it and a one-voxel
+/// hole inside it.
+LabelImage4 island_phantom(const Dims4& dims = {24, 24, 24, 24},
+                           const Vec4& spacing = {1, 1, 1, 1});
+
+/// A 3D ball (radius 9) cut into three labels by three half-planes through its axis, which
+/// rotate by a third of a turn over the time span: a three-label junction moving in time.
+LabelImage4 moving_junction_phantom(const Dims4& dims = {24, 24, 24, 24},
+                                    const Vec4& spacing = {1, 1, 1, 1});
+
+/// The phantoms by name: hypersphere, hypertorus, ventricle, blobs, thin-wall, checkerboard,
+/// corner-contact, island, moving-junction.
 std::vector<std::string> phantom_names();
 /// Throws std::invalid_argument for an unknown name.
 LabelImage4 make_phantom(const std::string& name);
