@@ -56,8 +56,23 @@ long ManifoldRelabeling::failing_over(const std::vector<Move>& moves,
   return failing;
 }
 
+bool ManifoldRelabeling::facet_near_surface(const std::array<VertexId, 4>& facet,
+                                            double bound) const {
+  const auto& st = state_.tri.store();
+  Point4 centroid{};
+  for (VertexId v : facet)
+    for (int k = 0; k < 4; ++k) centroid[k] += 0.25 * st.point(v)[k];
+  // Its vertices lie on ∂Ω: the nearest bounds the distance, and the oracle is asked only when
+  // that is not enough.
+  double d = std::numeric_limits<double>::infinity();
+  for (VertexId v : facet) d = std::min(d, distance(st.point(v), centroid));
+  if (d <= bound) return true;
+  const domain::SurfacePoint z = state_.oracle.closest_surface_point(centroid);
+  return z.inner != z.outer && distance(z.point, centroid) <= bound;
+}
+
 bool ManifoldRelabeling::new_boundary_near_surface(const std::vector<Move>& moves,
-                                                   const std::vector<Label>& old) const {
+                                                   const std::vector<Label>& old) {
   const auto& st = state_.tri.store();
   const double bound = kMaxSag * state_.params.delta;
   const auto old_label = [&](CellId c) {
@@ -72,18 +87,14 @@ bool ManifoldRelabeling::new_boundary_near_surface(const std::vector<Move>& move
       const bool boundary_now = state_.output_label(n) != m.to;
       const bool boundary_before = old_label(n) != old_label(m.cell);
       if (!boundary_now || boundary_before) continue;
-      Point4 centroid{};
-      for (int q = 0; q < 5; ++q)
-        if (q != f)
-          for (int k = 0; k < 4; ++k) centroid[k] += 0.25 * st.point(cell.v[q])[k];
-      // Its vertices lie on ∂Ω: the nearest bounds the distance, and the oracle is asked only
-      // when that is not enough.
-      double d = std::numeric_limits<double>::infinity();
-      for (int q = 0; q < 5; ++q)
-        if (q != f) d = std::min(d, distance(st.point(cell.v[q]), centroid));
-      if (d <= bound) continue;
-      const domain::SurfacePoint z = state_.oracle.closest_surface_point(centroid);
-      if (z.inner == z.outer || distance(z.point, centroid) > bound) return false;
+      // The triangulation does not change during the step: each facet is asked once.
+      std::array<VertexId, 4> key;
+      for (int q = 0, k = 0; q < 5; ++q)
+        if (q != f) key[k++] = cell.v[q];
+      std::sort(key.begin(), key.end());
+      const auto [known, inserted] = near_facets_.try_emplace(key, true);
+      if (inserted) known->second = facet_near_surface(key, bound);
+      if (!known->second) return false;
     }
   }
   return true;
@@ -102,20 +113,24 @@ long ManifoldRelabeling::gain_of(const std::vector<Move>& moves) {
   bool allowed = true;
   for (std::size_t i = 0; i < moves.size() && allowed; ++i)
     allowed = may_relabel(state_, moves[i].cell, old[i]);
-  long gain = allowed ? before - failing_over(moves, labels, false) : kNotAllowed;
-  if (gain > 0) {
-    // A move may trade failing vertices for a pinched triangle (whose vertices failed already),
-    // or put a facet far from ∂Ω on the boundary.
-    std::vector<CellId> cells;
-    for (const Move& m : moves) cells.push_back(m.cell);
-    const std::size_t pinched_after = scan_.pinches_on(cells).size();
-    const bool near = new_boundary_near_surface(moves, old);
-    for (std::size_t i = moves.size(); i-- > 0;) state_.set_label(moves[i].cell, old[i]);
-    if (!near || pinched_after > scan_.pinches_on(cells).size()) gain = kNotAllowed;
-    return gain;
-  }
+  const long gain = allowed ? before - failing_over(moves, labels, false) : kNotAllowed;
   for (std::size_t i = moves.size(); i-- > 0;) state_.set_label(moves[i].cell, old[i]);
   return gain;
+}
+
+bool ManifoldRelabeling::acceptable(const std::vector<Move>& moves) {
+  // A move may trade failing vertices for a pinched triangle (whose vertices failed already),
+  // or put a facet far from ∂Ω on the boundary.
+  std::vector<CellId> cells;
+  for (const Move& m : moves) cells.push_back(m.cell);
+  const std::size_t pinched_before = scan_.pinches_on(cells).size();
+  std::vector<Label> old;
+  for (const Move& m : moves)
+    old.push_back(state_.output_label(m.cell)), state_.set_label(m.cell, m.to);
+  const bool ok =
+      scan_.pinches_on(cells).size() <= pinched_before && new_boundary_near_surface(moves, old);
+  for (std::size_t i = moves.size(); i-- > 0;) state_.set_label(moves[i].cell, old[i]);
+  return ok;
 }
 
 std::vector<std::vector<ManifoldRelabeling::Move>> ManifoldRelabeling::options_at(
@@ -236,12 +251,19 @@ bool ManifoldRelabeling::repair(const NonManifoldVertex& f) {
   };
   for (int tier = 0; tier < kTiers; ++tier) {
     const auto options = options_at(f, star, tier, focus);
-    long best_gain = 0;
+    // By gain, the largest first (the first listed among equals); the costlier checks (the
+    // pinches, the new facets' distance to ∂Ω, which asks the oracle) only down that order.
+    std::vector<std::pair<long, std::size_t>> ranked;
+    for (std::size_t i = 0; i < options.size(); ++i)
+      if (mends_f(options[i]))
+        if (const long gain = gain_of(options[i]); gain > 0) ranked.push_back({-gain, i});
+    std::sort(ranked.begin(), ranked.end());
     const std::vector<Move>* best = nullptr;
-    for (const auto& option : options) {
-      if (!mends_f(option)) continue;
-      if (const long gain = gain_of(option); gain > best_gain) best_gain = gain, best = &option;
-    }
+    for (const auto& [gain, i] : ranked)
+      if (acceptable(options[i])) {
+        best = &options[i];
+        break;
+      }
     if (best) {
       for (const Move& m : *best) {
         state_.set_label(m.cell, m.to);
@@ -288,6 +310,7 @@ ManifoldRelabeling::Outcome ManifoldRelabeling::run() {
     if (moved == 0) break;
   }
   stars_.clear();
+  near_facets_.clear();
   outcome.left = failing.size();
   return outcome;
 }

@@ -15,8 +15,10 @@
 // 1,876 points.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <unordered_map>
 #include <vector>
 
@@ -48,13 +50,16 @@ class ManifoldRelabeling {
   // `current`: with the labels as they are (kept in current_ while f is repaired).
   long failing_over(const std::vector<Move>& moves, const std::vector<domain::Label>& labels,
                     bool current);
-  // How many failing pairs `moves` removes; the least long when one of them may not move, or
-  // when they would pinch a triangle more.
+  // How many failing pairs `moves` removes; the least long when one of them may not move.
   long gain_of(const std::vector<Move>& moves);
+  // Whether `moves` pinch no triangle more and keep their new boundary facets near ∂Ω.
+  bool acceptable(const std::vector<Move>& moves);
   // Whether every facet that `moves` (applied; `old` their labels before) put on a region's
   // boundary has its centroid within kMaxSag·Δ of ∂Ω.
   bool new_boundary_near_surface(const std::vector<Move>& moves,
-                                 const std::vector<domain::Label>& old) const;
+                                 const std::vector<domain::Label>& old);
+  // Whether the facet's centroid lies within `bound` of ∂Ω.
+  bool facet_near_surface(const std::array<mesh4d::VertexId, 4>& facet, double bound) const;
   // The options of one tier at f: 0 single pentatopes, 1 facet-adjacent pairs (both through one
   // of the `focus` vertices when there are any: link_trouble()), 2 the pieces.
   std::vector<std::vector<Move>> options_at(const NonManifoldVertex& f,
@@ -65,7 +70,10 @@ class ManifoldRelabeling {
   const PinchScan& scan_;
   std::unordered_map<mesh4d::VertexId, std::vector<delaunay::CellId>> stars_;
   std::unordered_map<std::uint64_t, bool> current_;  // (vertex << 16 | label) -> fails
-  std::vector<mesh4d::VertexId> touched_;            // vertices of the pentatopes moved this round
+  std::vector<mesh4d::VertexId> touched_;
+  // Facets (sorted vertices) already asked whether they lie near ∂Ω, and the answer.
+  std::map<std::array<mesh4d::VertexId, 4>, bool>
+      near_facets_;  // vertices of the pentatopes moved this round
 };
 
 }  // namespace mesh4d::refine

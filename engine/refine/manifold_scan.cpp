@@ -85,10 +85,18 @@ void failing_labels(const RefinementState& state, VertexId v, std::span<const Ce
   std::size_t count = 0;
   for (CellId c : star) {
     const Label l = state.output_label(c);
-    if (l == 0 || std::find(seen.begin(), seen.begin() + count, l) != seen.begin() + count)
-      continue;
-    if (count < seen.size()) seen[count++] = l;
-    if (region_link_fails(state, v, star, l)) out->push_back({v, l});
+    if (std::find(seen.begin(), seen.begin() + count, l) != seen.begin() + count) continue;
+    if (count == seen.size()) break;
+    seen[count++] = l;
+  }
+  // Two labels only: each one's part of the link (a 3-sphere) is the other's complement, with
+  // the same boundary surface, so one test answers for both.
+  if (count == 2 && seen[0] != 0 && seen[1] != 0) {
+    if (region_link_fails(state, v, star, seen[0]))
+      for (int k = 0; k < 2; ++k) out->push_back({v, seen[k]});
+  } else {
+    for (std::size_t k = 0; k < count; ++k)
+      if (seen[k] != 0 && region_link_fails(state, v, star, seen[k])) out->push_back({v, seen[k]});
   }
   std::sort(
       out->begin() + static_cast<std::ptrdiff_t>(first), out->end(),

@@ -107,7 +107,9 @@ struct Refiner::Pipeline {
         << "a region's boundary where labels meet; a smaller delta resolves more of them";
       result.warnings.push_back(s.str());
     }
-    if (const std::size_t pinches = relabeling.current_pinches().size()) {
+    // A pinched triangle's vertices fail their links: no count is needed when none does.
+    if (const std::size_t pinches =
+            result.non_manifold_left ? relabeling.current_pinches().size() : 0) {
       std::ostringstream s;
       s << pinches << " boundary triangles are pinched (in four or more boundary tetrahedra of "
         << "one label) where labels meet; a smaller delta resolves more of them";
