@@ -22,6 +22,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "refine/extra_pieces.h"
 #include "refine/manifold_scan.h"
 #include "refine/pinch_scan.h"
 
@@ -36,6 +37,10 @@ class ManifoldRelabeling {
     std::size_t left = 0;   // failing (vertex, label) pairs left
   };
   Outcome run();
+  /// After run(): pieces of a label that share an image piece with a larger piece of the label
+  /// take their neighbors' label where the moves are allowed and make no link fail
+  /// (extra_pieces.cpp, extra_pieces.h).
+  ExtraPieces remove_extra_pieces();
 
  private:
   struct Move {

@@ -153,10 +153,14 @@ RefineResult Refiner::run(ProgressSink* sink) {
   RefineResult result;
   result.repair_seconds = p.repair_pinches(sink);
   result.relabeled = p.relabel(sink);
-  const ManifoldRelabeling::Outcome manifold = ManifoldRelabeling(p.state, p.scan).run();
+  ManifoldRelabeling manifold_step(p.state, p.scan);
+  ManifoldRelabeling::Outcome manifold = manifold_step.run();
+  const ExtraPieces extra = manifold_step.remove_extra_pieces();
+  result.relabeled += extra.moved;
   p.relabeling.invalidate();
   result.relabeled += manifold.moved;
-  result.non_manifold_left = manifold.left;
+  result.non_manifold_left =
+      extra.removed ? find_non_manifold_vertices(p.state).size() : manifold.left;
   p.meter.report(sink, Phase::extracting, true);
   result.mesh = extract(p.state, result.warnings);
   p.finish(result);
