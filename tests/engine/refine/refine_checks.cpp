@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include "delaunay/geometry.h"
+#include "domain/image_io.h"
 #include "domain/phantoms.h"
 #include "mesh/mesh_check.h"
 #include "refine/boundary_distance.h"
@@ -31,6 +33,19 @@ double voxel_volume(const domain::LabelImage4& image, domain::Label label) {
   for (std::size_t i = 0; i < image.voxel_count(); ++i) n += image.at(i) == label;
   const auto& s = image.spacing();
   return n * s[0] * s[1] * s[2] * s[3];
+}
+
+std::optional<domain::LabelImage4> patient_at_papers_spacing(const std::string& name) {
+  const std::filesystem::path file =
+      std::filesystem::path(MESH4D_HEART_DATA_DIR) / (name + "_mse4d_label4d.nii.gz");
+  if (!std::filesystem::exists(file)) return std::nullopt;
+  const auto read = domain::read_label_image(file.string());
+  const auto& d = read.dims();
+  domain::LabelImage4 image({d[0], d[1], d[2], 15}, {1.77, 1.77, 6, 1});
+  for (std::size_t i = 0; i < image.voxel_count(); ++i)
+    if (read.at(i) != 0) image.set(i, read.at(i));
+  domain::validate_and_close(image);
+  return image;
 }
 
 void expect_only_manifold_warning(const RefineResult& r) {

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "domain/label_image.h"
@@ -18,6 +20,10 @@ constexpr double kDistanceBound = 0.5;
 double output_volume(const mesh::Mesh4& m, mesh::Label label = 0);
 /// 4-volume of a label's voxels.
 double voxel_volume(const domain::LabelImage4& image, domain::Label label);
+
+/// A patient of ../shared/data/heart4d ("Pat01".."Pat05") at the paper's spacing (1.77, 1.77, 6,
+/// 1; its first 15 frames, as bench/refine_bench), closed; nothing where the data are absent.
+std::optional<domain::LabelImage4> patient_at_papers_spacing(const std::string& name);
 
 /// Every warning of `r` is the manifold stage's (failing links left where labels meet), and it
 /// is there exactly when some are left. GoogleTest expectations.

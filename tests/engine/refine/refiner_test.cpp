@@ -222,21 +222,14 @@ TEST(Refiner, PatientClosesEveryPinchWhereThreeLabelsMeet) {
 // the cleaned image has, none touching another (without the step: 2 blood-pool pieces). About
 // 8 s.
 TEST(Refiner, PatientRegionsAreTheCleanedImagesPieces) {
-  const std::filesystem::path file =
-      std::filesystem::path(MESH4D_HEART_DATA_DIR) / "Pat01_mse4d_label4d.nii.gz";
-  if (!std::filesystem::exists(file)) GTEST_SKIP() << "no real data: " << file << " is absent";
-  const auto read = domain::read_label_image(file.string());
-  const auto& d = read.dims();
-  domain::LabelImage4 image({d[0], d[1], d[2], 15}, {1.77, 1.77, 6, 1});
-  for (std::size_t i = 0; i < image.voxel_count(); ++i)
-    if (read.at(i) != 0) image.set(i, read.at(i));
-  domain::validate_and_close(image);
-  domain::remove_small_pieces(image, domain::kDefaultMinIslandVoxels);
-  const domain::SurfaceOracle oracle(image);
+  auto image = patient_at_papers_spacing("Pat01");
+  if (!image) GTEST_SKIP() << "no real data in " << MESH4D_HEART_DATA_DIR;
+  domain::remove_small_pieces(*image, domain::kDefaultMinIslandVoxels);
+  const domain::SurfaceOracle oracle(*image);
   RefineParams params;
   params.delta = 5;
   const RefineResult r = refine(oracle, params);
-  const FidelityCertificate c = certify(r.mesh, image);
+  const FidelityCertificate c = certify(r.mesh, *image);
   for (const LabelFidelity& l : c.labels) {
     std::printf(
         "Pat01 paper spacing label %u: mesh %zu pieces (%zu touching), image %zu; "
@@ -255,16 +248,9 @@ TEST(Refiner, PatientRegionsAreTheCleanedImagesPieces) {
 // removal and rules after it brought the same pinch back; 2 pinched triangles stayed until every
 // gap could be the one kept (link_labels.h). About 6 s.
 TEST(Refiner, RelabelingCanKeepEitherOfTwoEqualGaps) {
-  const std::filesystem::path file =
-      std::filesystem::path(MESH4D_HEART_DATA_DIR) / "Pat05_mse4d_label4d.nii.gz";
-  if (!std::filesystem::exists(file)) GTEST_SKIP() << "no real data: " << file << " is absent";
-  const auto read = domain::read_label_image(file.string());
-  const auto& d = read.dims();
-  domain::LabelImage4 image({d[0], d[1], d[2], 15}, {1.77, 1.77, 6, 1});
-  for (std::size_t i = 0; i < image.voxel_count(); ++i)
-    if (read.at(i) != 0) image.set(i, read.at(i));
-  domain::validate_and_close(image);
-  const domain::SurfaceOracle oracle(image);
+  auto image = patient_at_papers_spacing("Pat05");
+  if (!image) GTEST_SKIP() << "no real data in " << MESH4D_HEART_DATA_DIR;
+  const domain::SurfaceOracle oracle(*image);
   RefineParams params;
   params.delta = 5;
   params.seed = 5;
