@@ -17,7 +17,11 @@ using domain::Label;
 namespace {
 
 // How many voxels a walk may visit before it gives up (the piece then stays).
-constexpr std::size_t kWalkLimit = std::size_t{1} << 18;
+constexpr std::size_t kWalkLimit = std::size_t{1} << 16;
+// The largest piece looked at, in pentatopes: the cut-off pieces seen on the patients have one
+// to three; a larger piece is a region the image may well have, and moving it would change the
+// geometry by more than a pentatope's size.
+constexpr std::size_t kMaxPiece = 64;
 
 // The voxel nearest to p, clamped to the image.
 std::size_t voxel_of(const domain::LabelImage4& image, const Point4& p) {
@@ -58,10 +62,19 @@ ExtraPieces ManifoldRelabeling::remove_extra_pieces() {
 
   // Each piece's circumcenters' voxels, and which piece holds each such voxel.
   std::unordered_map<std::size_t, std::size_t> holder;  // voxel -> root
+  holder.reserve(output.size());
   for (CellId c : output) holder[voxel_of(image, state_.info[c].center)] = pieces.find(c);
-  std::vector<std::pair<std::size_t, std::size_t>> order;  // (size, root), smallest first
+  // The small pieces of labels with several, smallest first; never a label's largest piece.
+  std::unordered_map<Label, std::size_t> largest;  // label -> root
+  for (const auto& [root, cells] : members) {
+    const Label l = state_.output_label(cells[0]);
+    const auto [it, inserted] = largest.try_emplace(l, root);
+    if (!inserted && members[it->second].size() < cells.size()) it->second = root;
+  }
+  std::vector<std::pair<std::size_t, std::size_t>> order;  // (size, root)
   for (const auto& [root, cells] : members)
-    if (count_by_label[state_.output_label(cells[0])] > 1) order.push_back({cells.size(), root});
+    if (cells.size() <= kMaxPiece && largest[state_.output_label(cells[0])] != root)
+      order.push_back({cells.size(), root});
   std::sort(order.begin(), order.end());
   std::unordered_set<std::size_t> removed;
 
@@ -107,7 +120,9 @@ ExtraPieces ManifoldRelabeling::remove_extra_pieces() {
     }
     stars_.clear();
     current_.clear();
-    if (gain_of(moves) < 0 || !acceptable(moves)) continue;
+    const long gain = gain_of(moves);
+    if (gain < 0 || !acceptable(moves)) continue;
+    out.links_mended += static_cast<std::size_t>(gain);
     for (const Move& m : moves) state_.set_label(m.cell, m.to);
     removed.insert(root);
     ++out.removed;

@@ -6,7 +6,8 @@
 // the voxels of the piece's circumcenters, a walk through the label's face-connected voxels
 // that reaches a voxel holding another piece's circumcenter. Run after the manifold step; a
 // piece whose move would put a facet more than Δ/2 from ∂Ω, or a pentatope that may not move,
-// or make a link fail, stays.
+// or make a link fail, stays; so do a label's largest piece and pieces of more than 64
+// pentatopes.
 #pragma once
 
 #include <cstddef>
@@ -14,9 +15,10 @@
 namespace mesh4d::refine {
 
 struct ExtraPieces {
-  std::size_t found = 0;    // pieces that share an image piece with a larger one
-  std::size_t removed = 0;  // of those, given their neighbors' label
-  std::size_t moved = 0;    // pentatopes that changed label
+  std::size_t found = 0;         // pieces that share an image piece with a larger one
+  std::size_t removed = 0;       // of those, given their neighbors' label
+  std::size_t moved = 0;         // pentatopes that changed label
+  std::size_t links_mended = 0;  // failing (vertex, label) links the moves mended
 };
 
 }  // namespace mesh4d::refine

@@ -159,8 +159,7 @@ RefineResult Refiner::run(ProgressSink* sink) {
   result.relabeled += extra.moved;
   p.relabeling.invalidate();
   result.relabeled += manifold.moved;
-  result.non_manifold_left =
-      extra.removed ? find_non_manifold_vertices(p.state).size() : manifold.left;
+  result.non_manifold_left = manifold.left - extra.links_mended;
   p.meter.report(sink, Phase::extracting, true);
   result.mesh = extract(p.state, result.warnings);
   p.finish(result);

@@ -230,6 +230,9 @@ TEST(Refiner, PatientRegionsAreTheCleanedImagesPieces) {
   params.delta = 5;
   const RefineResult r = refine(oracle, params);
   const FidelityCertificate c = certify(r.mesh, *image);
+  std::size_t failing = 0;
+  for (const LabelFidelity& l : c.labels) failing += l.non_manifold_vertices;
+  EXPECT_EQ(r.non_manifold_left, failing) << "the count the job reports is the output's";
   for (const LabelFidelity& l : c.labels) {
     std::printf(
         "Pat01 paper spacing label %u: mesh %zu pieces (%zu touching), image %zu; "
