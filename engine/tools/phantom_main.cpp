@@ -12,7 +12,7 @@ int main(int argc, char** argv) {
   std::string out;
   std::string raw;
   CLI::App app{"mesh4d-phantom: write a built-in 4D phantom as NIfTI"};
-  app.add_option("phantom", name, "hypersphere, hypertorus, ventricle or blobs")
+  app.add_option("phantom", name, "a built-in phantom (domain/phantoms.h)")
       ->required()
       ->check(CLI::IsMember(mesh4d::domain::phantom_names()));
   app.add_option("-o,--out", out, "output file (.nii or .nii.gz)")->required();
