@@ -81,14 +81,14 @@ namespace {
 void failing_labels(const RefinementState& state, VertexId v, std::span<const CellId> star,
                     std::vector<NonManifoldVertex>* out) {
   const std::size_t first = out->size();
-  std::array<Label, 8> seen{};
-  std::size_t count = 0;
+  // The star's labels (a handful; any number is taken).
+  thread_local std::vector<Label> seen;
+  seen.clear();
   for (CellId c : star) {
     const Label l = state.output_label(c);
-    if (std::find(seen.begin(), seen.begin() + count, l) != seen.begin() + count) continue;
-    if (count == seen.size()) break;
-    seen[count++] = l;
+    if (std::find(seen.begin(), seen.end(), l) == seen.end()) seen.push_back(l);
   }
+  const std::size_t count = seen.size();
   // Two labels only: each one's part of the link (a 3-sphere) is the other's complement, with
   // the same boundary surface, so one test answers for both.
   if (count == 2 && seen[0] != 0 && seen[1] != 0) {
