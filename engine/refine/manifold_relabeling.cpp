@@ -7,6 +7,7 @@
 #include <map>
 
 #include "mesh/link_topology.h"
+#include "refine/link_ball.h"
 #include "refine/relabeling.h"
 #include "support/union_find.h"
 
@@ -20,11 +21,21 @@ namespace {
 
 // Passes over the failing pairs; on the patients the count stops falling after three or four.
 constexpr int kRounds = 8;
-constexpr int kTiers = 3;  // single pentatopes, adjacent pairs, pieces around the vertex
+// single pentatopes, adjacent pairs, pieces around the vertex, balls in the vertex's link
+constexpr int kTiers = 4;
+// Seeds per side for the balls: the largest pieces of the label and of the rest around v.
+constexpr std::size_t kBallSeeds = 2;
+// Larger changes of a star almost never lower the count (they break the neighbors' links).
+constexpr std::size_t kMaxBallMoves = 32;
 // How far from ∂Ω (in Δ) the centroid of a facet that a move puts on the boundary may lie: the
 // bound the tests hold every boundary to.
 constexpr double kMaxSag = 0.5;
 constexpr long kNotAllowed = std::numeric_limits<long>::min();
+// Detours: how many failing links the first move may add, how many such moves are tried per
+// failing pair, and how deep the mending of what they broke goes.
+constexpr long kDetourLoss = 2;
+constexpr std::size_t kDetours = 6;
+constexpr int kDetourDepth = 1;
 
 }  // namespace
 
@@ -169,6 +180,19 @@ std::vector<std::vector<ManifoldRelabeling::Move>> ManifoldRelabeling::options_a
     }
   }
   const auto move = [&](std::size_t k) { return Move{star[k], static_cast<Label>(to[k])}; };
+  // The pieces of L and of the rest around f's vertex, joined through facets that contain it.
+  support::UnionFind piece(star.size());
+  if (tier >= 2)
+    for (std::size_t k = 0; k < star.size(); ++k) {
+      const auto& cell = st.cell(star[k]);
+      const bool in = state_.output_label(star[k]) == f.label;
+      for (int q = 0; q < 5; ++q) {
+        if (cell.v[q] == f.vertex) continue;
+        const int j = in_star(cell.n[q]);
+        if (j >= 0 && (state_.output_label(cell.n[q]) == f.label) == in)
+          piece.join(k, static_cast<std::size_t>(j));
+      }
+    }
   std::vector<std::vector<Move>> options;
   if (tier == 0) {
     for (std::size_t k = 0; k < star.size(); ++k)
@@ -181,19 +205,42 @@ std::vector<std::vector<ManifoldRelabeling::Move>> ManifoldRelabeling::options_a
         if (j > static_cast<int>(k) && to[j] >= 0) options.push_back({move(k), move(j)});
       }
     }
-  } else {
-    // The pieces of L and of the rest around f's vertex, joined through facets that contain it.
-    support::UnionFind piece(star.size());
-    for (std::size_t k = 0; k < star.size(); ++k) {
-      const auto& cell = st.cell(star[k]);
-      const bool in = state_.output_label(star[k]) == f.label;
-      for (int q = 0; q < 5; ++q) {
-        if (cell.v[q] == f.vertex) continue;
-        const int j = in_star(cell.n[q]);
-        if (j >= 0 && (state_.output_label(cell.n[q]) == f.label) == in)
-          piece.join(k, static_cast<std::size_t>(j));
+  } else if (tier == 3) {
+    // The part of the star the label keeps (or the rest keeps) is a ball grown from the largest
+    // pieces of either side; what it leaves out changes side. A pentatope leaving L whose
+    // neighbors are all L takes the star's most common other label.
+    std::map<Label, int> others;
+    for (CellId c : star)
+      if (const Label l = state_.output_label(c); l != f.label) ++others[l];
+    int fallback = -1, most = 0;
+    for (const auto& [l, count] : others)
+      if (count > most) most = count, fallback = l;
+    for (const bool keep_label : {true, false}) {
+      std::vector<char> side(star.size());
+      std::map<std::size_t, std::size_t> sizes;
+      for (std::size_t k = 0; k < star.size(); ++k)
+        if ((side[k] = (state_.output_label(star[k]) == f.label) == keep_label))
+          ++sizes[piece.find(k)];
+      std::vector<std::pair<std::size_t, std::size_t>> seeds;  // (-size, root)
+      for (const auto& [root, size] : sizes) seeds.push_back({star.size() - size, root});
+      std::sort(seeds.begin(), seeds.end());
+      if (seeds.size() > kBallSeeds) seeds.resize(kBallSeeds);
+      for (const auto& [unused, root] : seeds) {
+        const std::vector<char> ball = grow_link_ball(st, f.vertex, star, side, root);
+        std::vector<Move> moves;
+        for (std::size_t k = 0; k < star.size(); ++k) {
+          if (!side[k] || ball[k]) continue;
+          const int label = !keep_label ? f.label : to[k] >= 0 ? to[k] : fallback;
+          if (label < 0 || moves.size() == kMaxBallMoves) {
+            moves.clear();
+            break;
+          }
+          moves.push_back({star[k], static_cast<Label>(label)});
+        }
+        if (!moves.empty() && moves.size() <= kMaxBallMoves) options.push_back(std::move(moves));
       }
     }
+  } else {
     std::map<std::size_t, std::vector<Move>> pieces;
     for (std::size_t k = 0; k < star.size(); ++k)
       if (to[k] >= 0) pieces[piece.find(k)].push_back(move(k));
@@ -203,8 +250,24 @@ std::vector<std::vector<ManifoldRelabeling::Move>> ManifoldRelabeling::options_a
   return options;
 }
 
-bool ManifoldRelabeling::repair(const NonManifoldVertex& f) {
-  stars_.clear();
+void ManifoldRelabeling::apply(const std::vector<Move>& moves) {
+  for (const Move& m : moves) {
+    journal_.push_back({m.cell, state_.output_label(m.cell)});
+    state_.set_label(m.cell, m.to);
+    const auto& v = state_.tri.store().cell(m.cell).v;
+    touched_.insert(touched_.end(), std::begin(v), std::end(v));
+  }
+}
+
+void ManifoldRelabeling::undo_to(std::size_t journal_mark, std::size_t touched_mark) {
+  while (journal_.size() > journal_mark) {
+    state_.set_label(journal_.back().cell, journal_.back().to);
+    journal_.pop_back();
+  }
+  touched_.resize(touched_mark);
+}
+
+bool ManifoldRelabeling::repair(const NonManifoldVertex& f, int depth, long* gained) {
   current_.clear();
   const std::vector<CellId> star = star_of(f.vertex);
   if (!region_link_fails(state_, f.vertex, star, f.label)) return false;  // an earlier move
@@ -249,14 +312,22 @@ bool ManifoldRelabeling::repair(const NonManifoldVertex& f) {
                                   std::back_inserter(after));
     return mesh::link_is_sphere(after);
   };
+  // Options that mend f but break as many links elsewhere (or a few more): kept for a detour.
+  std::vector<std::pair<long, std::vector<Move>>> detours;
   for (int tier = 0; tier < kTiers; ++tier) {
-    const auto options = options_at(f, star, tier, focus);
+    auto options = options_at(f, star, tier, focus);
     // By gain, the largest first (the first listed among equals); the costlier checks (the
     // pinches, the new facets' distance to ∂Ω, which asks the oracle) only down that order.
     std::vector<std::pair<long, std::size_t>> ranked;
     for (std::size_t i = 0; i < options.size(); ++i)
-      if (mends_f(options[i]))
-        if (const long gain = gain_of(options[i]); gain > 0) ranked.push_back({-gain, i});
+      if (mends_f(options[i])) {
+        const long gain = gain_of(options[i]);
+        if (gain > 0) {
+          ranked.push_back({-gain, i});
+        } else if (depth > 0 && gain >= -kDetourLoss) {
+          detours.push_back({-gain, options[i]});
+        }
+      }
     std::sort(ranked.begin(), ranked.end());
     const std::vector<Move>* best = nullptr;
     for (const auto& [gain, i] : ranked)
@@ -265,13 +336,38 @@ bool ManifoldRelabeling::repair(const NonManifoldVertex& f) {
         break;
       }
     if (best) {
-      for (const Move& m : *best) {
-        state_.set_label(m.cell, m.to);
-        const auto& v = state_.tri.store().cell(m.cell).v;
-        touched_.insert(touched_.end(), std::begin(v), std::end(v));
-      }
+      *gained = -ranked.front().first;
+      for (const auto& [gain, i] : ranked)
+        if (&options[i] == best) *gained = -gain;
+      apply(*best);
       return true;
     }
+  }
+  // A detour: the move that mends f, then the links it broke mended in turn (one level down);
+  // kept when the whole lowers the count, undone otherwise.
+  std::stable_sort(detours.begin(), detours.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  if (detours.size() > kDetours) detours.resize(kDetours);
+  for (const auto& [loss, moves] : detours) {
+    if (!acceptable(moves)) continue;
+    const std::size_t journal_mark = journal_.size(), touched_mark = touched_.size();
+    apply(moves);
+    long total = -loss;
+    std::vector<NonManifoldVertex> broken;
+    std::vector<CellId> around;
+    std::vector<VertexId> vertices(touched_.begin() + touched_mark, touched_.end());
+    std::sort(vertices.begin(), vertices.end());
+    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+    for (VertexId v : vertices) non_manifold_labels_at(state_, v, around, &broken);
+    for (const NonManifoldVertex& b : broken) {
+      long gain = 0;
+      if (repair(b, depth - 1, &gain)) total += gain;
+    }
+    if (total > 0) {
+      *gained = total;
+      return true;
+    }
+    undo_to(journal_mark, touched_mark);
   }
   return false;
 }
@@ -283,8 +379,11 @@ ManifoldRelabeling::Outcome ManifoldRelabeling::run() {
   for (int round = 0; round < kRounds && !failing.empty(); ++round) {
     std::size_t moved = 0;
     for (const NonManifoldVertex& f : failing)
-      if (round == 0 || std::binary_search(retry.begin(), retry.end(), f.vertex))
-        moved += repair(f);
+      if (round == 0 || std::binary_search(retry.begin(), retry.end(), f.vertex)) {
+        stars_.clear();
+        journal_.clear();
+        if (long gain = 0; repair(f, kDetourDepth, &gain)) moved += journal_.size();
+      }
     outcome.moved += moved;
     // Only the moved pentatopes' vertices have new links: they and the failing ones are looked
     // at again, not the whole boundary. A pair that found no move is tried again only where a

@@ -2,7 +2,10 @@
 // not a closed 3-manifold at a vertex after the pinch repair and relabeling (manifold_scan.h),
 // pentatopes of that vertex's star move to a neighbor's label while that lowers the number of
 // failing (vertex, label) pairs around them: each pentatope alone, then facet-adjacent pairs,
-// then each piece of the label (or of the rest) around the vertex as a whole. This decides,
+// then each piece of the label (or of the rest) around the vertex as a whole, then all that a
+// ball grown in the vertex's link (link_ball.h) leaves out. Where a move mends the vertex but
+// breaks as many links nearby, the links it broke are repaired in turn, and the whole is kept
+// only when the count falls (a detour, one level deep). This decides,
 // once, whether two parts that touch at a vertex or edge join or separate. The moves obey
 // relabeling.h's rules (all five vertices on ∂Ω; a pentatope entering the output meets the
 // quality bounds), every facet a move puts on a boundary has its centroid within Δ/2 of ∂Ω, no
@@ -47,8 +50,13 @@ class ManifoldRelabeling {
     delaunay::CellId cell;
     domain::Label to;
   };
-  // One failing pair: the best moves found around it, applied; false when none helps.
-  bool repair(const NonManifoldVertex& f);
+  // One failing pair: the best moves found around it, applied, and how many failing pairs they
+  // mended in all to *gained; false when none helps. depth > 0: a move that mends f but breaks
+  // others may be followed by repairs of those, depth - 1 levels down.
+  bool repair(const NonManifoldVertex& f, int depth, long* gained);
+  // Applies `moves`, journaled so that undo_to() can take them back.
+  void apply(const std::vector<Move>& moves);
+  void undo_to(std::size_t journal_mark, std::size_t touched_mark);
   // The star of u, kept while one failing vertex is repaired (labels change, stars do not).
   const std::vector<delaunay::CellId>& star_of(mesh4d::VertexId u);
   // Failing (vertex, label) pairs over the moved pentatopes' vertices and the labels involved;
@@ -66,7 +74,8 @@ class ManifoldRelabeling {
   // Whether the facet's centroid lies within `bound` of ∂Ω.
   bool facet_near_surface(const std::array<mesh4d::VertexId, 4>& facet, double bound) const;
   // The options of one tier at f: 0 single pentatopes, 1 facet-adjacent pairs (both through one
-  // of the `focus` vertices when there are any: link_trouble()), 2 the pieces.
+  // of the `focus` vertices when there are any: link_trouble()), 2 the pieces, 3 the complements
+  // of balls in the link.
   std::vector<std::vector<Move>> options_at(const NonManifoldVertex& f,
                                             const std::vector<delaunay::CellId>& star, int tier,
                                             const std::vector<mesh4d::VertexId>& focus) const;
@@ -75,10 +84,10 @@ class ManifoldRelabeling {
   const PinchScan& scan_;
   std::unordered_map<mesh4d::VertexId, std::vector<delaunay::CellId>> stars_;
   std::unordered_map<std::uint64_t, bool> current_;  // (vertex << 16 | label) -> fails
-  std::vector<mesh4d::VertexId> touched_;
+  std::vector<mesh4d::VertexId> touched_;            // vertices of the pentatopes moved this round
+  std::vector<Move> journal_;                        // applied moves, with the label each left
   // Facets (sorted vertices) already asked whether they lie near ∂Ω, and the answer.
-  std::map<std::array<mesh4d::VertexId, 4>, bool>
-      near_facets_;  // vertices of the pentatopes moved this round
+  std::map<std::array<mesh4d::VertexId, 4>, bool> near_facets_;
 };
 
 }  // namespace mesh4d::refine

