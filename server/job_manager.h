@@ -56,6 +56,9 @@ class JobManager {
   };
   /// Validates, stores durably, then queues. Throws wire::ServiceError.
   Submitted submit(const v1::JobSpec& spec, std::string data);
+  /// The largest label data submit() accepts: at least one byte per voxel, so a file whose
+  /// header announces more voxels can be refused before it is read.
+  std::uint64_t max_image_bytes() const { return config_.max_image_bytes; }
 
   v1::Job get(const std::string& id) const;
   v1::Job cancel(const std::string& id);

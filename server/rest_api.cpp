@@ -308,7 +308,8 @@ class RestApi::Handler : public CivetHandler {
     }
     if (observer_) observer_->on_bytes_received(form.image.size());
     const auto submitted = on_full_stack([&] {
-      RestUpload upload = decode_rest_upload(form.image, fields, form.params);
+      RestUpload upload =
+          decode_rest_upload(form.image, fields, form.params, jobs_.max_image_bytes());
       return jobs_.submit(upload.spec, std::move(upload.data));
     });
     v1::SubmitJobResponse response;

@@ -49,9 +49,10 @@ class TemporaryFile {
         ("mesh4d-upload-" + std::to_string(::getpid()) + "-" + std::to_string(random()) + suffix);
     std::ofstream out(path_, std::ios::binary);
     out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
+    // The path is the server's own: the client learns only that the server could not.
     if (!out.flush())
       throw wire::ServiceError(wire::ErrorCode::internal,
-                               "cannot write the upload to " + path_.string());
+                               "the server cannot store the upload for reading (disk full?)");
   }
   ~TemporaryFile() {
     std::error_code ignored;
@@ -62,6 +63,13 @@ class TemporaryFile {
  private:
   std::filesystem::path path_;
 };
+
+// An error about the temporary file, told about the upload: the server's paths stay private.
+std::string about_upload(std::string message, const std::string& path) {
+  for (std::size_t at; (at = message.find(path)) != std::string::npos;)
+    message.replace(at, path.size(), "the upload");
+  return message;
+}
 
 // A query value as JSON: a number when it reads as one, true or false, else a string (enum
 // names).
@@ -81,7 +89,7 @@ nlohmann::json json_value(const std::string& value) {
 
 RestUpload decode_rest_upload(const std::string& body,
                               const std::map<std::string, std::string>& query,
-                              const std::string& params_json) {
+                              const std::string& params_json, std::uint64_t max_voxels) {
   if (body.empty())
     throw wire::ServiceError(
         wire::ErrorCode::invalid_argument,
@@ -89,13 +97,17 @@ RestUpload decode_rest_upload(const std::string& body,
   RestUpload upload;
   const TemporaryFile file(body, file_suffix(body, query));
   try {
-    const auto image = domain::read_label_image(file.path());
+    const auto image = domain::read_label_image(file.path(), nullptr, max_voxels);
     upload.data = wire::encode_upload(image, upload.spec.mutable_image());
   } catch (const wire::ServiceError&) {
     throw;
+  } catch (const domain::ImageTooLarge& e) {
+    throw wire::ServiceError(wire::ErrorCode::resource_exhausted,
+                             about_upload(e.what(), file.path()));
   } catch (const std::exception& e) {
-    throw wire::ServiceError(wire::ErrorCode::invalid_argument,
-                             std::string("the body is not a readable label image: ") + e.what());
+    throw wire::ServiceError(
+        wire::ErrorCode::invalid_argument,
+        "the body is not a readable label image: " + about_upload(e.what(), file.path()));
   }
   // Every other query key is a RefineParams field, read by the parser that the client's
   // --params file also goes through (names, types, enum values); the job manager checks the

@@ -5,6 +5,7 @@
 // (or a JSON object of them, as a "params" part or key).
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <string>
 
@@ -20,9 +21,10 @@ struct RestUpload {
 /// Decodes a body and its query parameters; `params_json` (from a multipart request's "params"
 /// part, or the "params" query key) is a JSON object of RefineParams fields that the other query
 /// keys override. Throws wire::ServiceError(invalid_argument) with a message that names the bad
-/// parameter or says what the body is not.
+/// parameter or says what the body is not, or (resource_exhausted) when the file's header
+/// announces more than max_voxels voxels (0: no limit): then nothing is inflated or read.
 RestUpload decode_rest_upload(const std::string& body,
                               const std::map<std::string, std::string>& query,
-                              const std::string& params_json = "");
+                              const std::string& params_json = "", std::uint64_t max_voxels = 0);
 
 }  // namespace mesh4d::server

@@ -36,29 +36,10 @@ bool is_integer_component(itk::IOComponentEnum c) {
          c == C::INT || c == C::ULONG || c == C::LONG || c == C::ULONGLONG || c == C::LONGLONG;
 }
 
-// ITK's NIfTI reader takes a file that ends early, compressed or not, for a whole one (the
-// missing voxels read as zeros): the stream is read to its end first (zlib reads plain files
-// too) and must hold the header's voxel offset plus every voxel.
-void check_nifti_complete(const std::string& path, std::uint64_t voxel_bytes) {
-  gzFile f = gzopen(path.c_str(), "rb");
-  if (!f) return;  // missing or unreadable: the reader says so
-  std::vector<char> buffer(1 << 16);
-  std::array<unsigned char, 176> header{};
-  std::uint64_t total = 0;
-  int n = 0;
-  while ((n = gzread(f, buffer.data(), static_cast<unsigned>(buffer.size()))) > 0) {
-    for (std::size_t i = 0; i < static_cast<std::size_t>(n) && total + i < header.size(); ++i)
-      header[total + i] = static_cast<unsigned char>(buffer[i]);
-    total += static_cast<std::uint64_t>(n);
-  }
-  int code = Z_OK;
-  const std::string error = n < 0 ? gzerror(f, &code) : "";
-  const int closed = gzclose_r(f);
-  if (n < 0) throw ImageError(path + ": the compressed data is corrupt (" + error + ")");
-  if (closed == Z_BUF_ERROR)
-    throw ImageError(path + ": the compressed file is truncated (it ends inside the data)");
-  // sizeof_hdr says the version (348: NIfTI-1, vox_offset a float at 108; 540: NIfTI-2, an
-  // int64 at 168) and, read swapped, the byte order.
+// A NIfTI header's voxel offset; -1 when the bytes are not a NIfTI header. sizeof_hdr says the
+// version (348: NIfTI-1, vox_offset a float at 108; 540: NIfTI-2, an int64 at 168) and, read
+// swapped, the byte order.
+double nifti_voxel_offset(const std::array<unsigned char, 176>& header) {
   const auto read = [&](std::size_t at, std::size_t bytes, bool swap) {
     std::array<unsigned char, 8> b{};
     for (std::size_t k = 0; k < bytes; ++k) b[k] = header[at + (swap ? bytes - 1 - k : k)];
@@ -73,27 +54,61 @@ void check_nifti_complete(const std::string& path, std::uint64_t voxel_bytes) {
       break;
     }
   }
-  double offset = 0;
   if (sizeof_hdr == 348) {
     float f32;
     std::memcpy(&f32, read(108, 4, swap).data(), 4);
-    offset = f32;
-  } else if (sizeof_hdr == 540) {
+    return f32;
+  }
+  if (sizeof_hdr == 540) {
     std::int64_t i64;
     std::memcpy(&i64, read(168, 8, swap).data(), 8);
-    offset = static_cast<double>(i64);
-  } else {
-    return;  // not a NIfTI header: ITK will say what it is
+    return static_cast<double>(i64);
   }
-  if (double(total) < offset + double(voxel_bytes))
-    throw ImageError(path + ": the file is truncated: " + std::to_string(total) +
-                     " bytes hold less than the header's " + std::to_string(voxel_bytes) +
-                     " bytes of voxels");
+  return -1;
+}
+
+// ITK's NIfTI reader takes a file that ends early, compressed or not, for a whole one (the
+// missing voxels read as zeros): the stream (zlib reads plain files too) must hold the header's
+// voxel offset plus every voxel. It is inflated only that far: a small file can inflate to
+// gigabytes, and what lies past the voxels is never read.
+void check_nifti_complete(const std::string& path, std::uint64_t voxel_bytes) {
+  gzFile f = gzopen(path.c_str(), "rb");
+  if (!f) return;  // missing or unreadable: the reader says so
+  std::vector<char> buffer(1 << 16);
+  std::array<unsigned char, 176> header{};
+  std::uint64_t total = 0;
+  double needed = -1;  // once the header is in: its voxel offset plus the voxels
+  int n = 0;
+  while ((needed < 0 || double(total) < needed) &&
+         (n = gzread(f, buffer.data(), static_cast<unsigned>(buffer.size()))) > 0) {
+    for (std::size_t i = 0; i < static_cast<std::size_t>(n) && total + i < header.size(); ++i)
+      header[total + i] = static_cast<unsigned char>(buffer[i]);
+    total += static_cast<std::uint64_t>(n);
+    if (needed < 0 && total >= header.size()) {
+      needed = nifti_voxel_offset(header);
+      if (needed < 0) break;  // not a NIfTI header: ITK will say what it is
+      needed += double(voxel_bytes);
+    }
+  }
+  int code = Z_OK;
+  const std::string error = n < 0 ? gzerror(f, &code) : "";
+  const int closed = gzclose_r(f);
+  if (n < 0) throw ImageError(path + ": the compressed data is corrupt (" + error + ")");
+  if (needed < 0 && total < header.size()) {  // shorter than a header
+    needed = nifti_voxel_offset(header);
+    if (needed >= 0) needed += double(voxel_bytes);
+  }
+  if (needed < 0 || double(total) >= needed) return;  // not a NIfTI file, or complete
+  if (closed == Z_BUF_ERROR)
+    throw ImageError(path + ": the compressed file is truncated (it ends inside the data)");
+  throw ImageError(path + ": the file is truncated: " + std::to_string(total) +
+                   " bytes hold less than the header's " + std::to_string(voxel_bytes) +
+                   " bytes of voxels");
 }
 
 // Opens the file's header and checks what can be checked before reading voxels.
 itk::ImageIOBase::Pointer open_header(const std::string& path, unsigned expected_dims_min,
-                                      unsigned expected_dims_max) {
+                                      unsigned expected_dims_max, std::uint64_t max_voxels = 0) {
   register_image_formats();
   itk::ImageIOBase::Pointer io =
       itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::IOFileModeEnum::ReadMode);
@@ -111,6 +126,19 @@ itk::ImageIOBase::Pointer open_header(const std::string& path, unsigned expected
     const std::string x = suffix;
     return path.size() > x.size() && path.compare(path.size() - x.size(), x.size(), x) == 0;
   };
+  // The size first, from the header alone: nothing is inflated or allocated for an image that
+  // is over the limit, or whose dimensions overflow.
+  std::uint64_t voxels = 1;
+  for (unsigned a = 0; a < io->GetNumberOfDimensions(); ++a) {
+    const std::uint64_t d = io->GetDimensions(a);
+    if (d == 0) throw ImageError(path + ": the header gives a dimension of 0 voxels");
+    if (voxels > (std::uint64_t{1} << 62) / d)
+      throw ImageTooLarge(path + ": the header's dimensions are absurdly large");
+    voxels *= d;
+  }
+  if (max_voxels > 0 && voxels > max_voxels)
+    throw ImageTooLarge(path + ": the header announces " + std::to_string(voxels) +
+                        " voxels; at most " + std::to_string(max_voxels) + " are accepted");
   if (ends_with(".nii") || ends_with(".nii.gz"))
     check_nifti_complete(path, io->GetImageSizeInBytes());
   const unsigned n = io->GetNumberOfDimensions();
@@ -171,8 +199,9 @@ void note_direction(const ReadImage* image, const std::string& path,
 
 }  // namespace
 
-LabelImage4 read_label_image(const std::string& path, std::vector<std::string>* warnings) {
-  open_header(path, 4, 4);
+LabelImage4 read_label_image(const std::string& path, std::vector<std::string>* warnings,
+                             std::uint64_t max_voxels) {
+  open_header(path, 4, 4, max_voxels);
   const ReadImage::Pointer image = read_voxels(path);
   const auto size = image->GetLargestPossibleRegion().GetSize();
   const auto spacing = image->GetSpacing();

@@ -3,6 +3,7 @@
 // file name and what is wrong.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -14,10 +15,19 @@ namespace mesh4d::domain {
 /// below call it). Code that uses ITK's file I/O directly calls it first.
 void register_image_formats();
 
+/// An image whose header announces more voxels than the reader was allowed: refused from the
+/// header alone, before any voxel is read or inflated.
+class ImageTooLarge : public ImageError {
+ public:
+  using ImageError::ImageError;
+};
+
 /// Reads a 4D label image. Integer labels in 0..65535 of any integer pixel type are accepted
 /// (uint8, uint16 and int16 are the usual ones); floating-point, multi-component or non-4D files
 /// are refused. Remarks (ignored direction cosines, say) are appended to `warnings` if given.
-LabelImage4 read_label_image(const std::string& path, std::vector<std::string>* warnings = nullptr);
+/// max_voxels > 0: a header that announces more throws ImageTooLarge.
+LabelImage4 read_label_image(const std::string& path, std::vector<std::string>* warnings = nullptr,
+                             std::uint64_t max_voxels = 0);
 
 /// Reads one 3D label file per frame and stacks them along t, frame i at t = i·time_scale.
 /// Every frame must have the same size and spacing.

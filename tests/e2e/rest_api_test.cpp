@@ -12,50 +12,12 @@
 
 #include "domain/image_io.h"
 #include "domain/phantoms.h"
+#include "http_client.h"
 #include "mesh/mesh_io.h"
 #include "server_fixture.h"
 
 namespace mesh4d::testing {
 namespace {
-
-struct Http {
-  int status = 0;
-  std::string headers;
-  std::string body;
-  nlohmann::json json() const { return nlohmann::json::parse(body, nullptr, false); }
-};
-
-// One curl call: `args` after the URL; the status and headers come from curl's -D.
-Http curl(const std::string& dir, const std::string& url, std::vector<std::string> args = {},
-          int seconds = 60) {
-  static int calls = 0;
-  const std::string headers = dir + "/headers" + std::to_string(++calls);
-  const std::string body = dir + "/body" + std::to_string(calls);
-  std::vector<std::string> argv{"/usr/bin/curl", "-sS", "-N", "-D", headers, "-o", body, url};
-  argv.insert(argv.end(), args.begin(), args.end());
-  const RunResult r = run_command(argv, std::chrono::seconds(seconds));
-  Http h;
-  std::ifstream hin(headers), bin(body, std::ios::binary);
-  std::stringstream hs, bs;
-  hs << hin.rdbuf();
-  bs << bin.rdbuf();
-  h.headers = hs.str();
-  h.body = bs.str();
-  if (r.exit_code == 0 && h.headers.rfind("HTTP/1.1 ", 0) == 0)
-    h.status = std::stoi(h.headers.substr(9, 3));
-  return h;
-}
-
-std::string header(const Http& h, const std::string& name) {
-  std::istringstream in(h.headers);
-  for (std::string line; std::getline(in, line);)
-    if (line.rfind(name + ": ", 0) == 0) {
-      std::string value = line.substr(name.size() + 2);
-      if (!value.empty() && value.back() == '\r') value.pop_back();
-      return value;
-    }
-  return "";
-}
 
 // The SSE messages of a stream: (event name, data as JSON).
 std::vector<std::pair<std::string, nlohmann::json>> sse(const std::string& text) {

@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 #include <itkImage.h>
 #include <itkImageFileWriter.h>
+#include <sys/resource.h>
 #include <unistd.h>
+#include <zlib.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -162,6 +165,72 @@ TEST(ImageIo, TruncatedFilesAreRefused) {
   }
   EXPECT_NE(error_of([] { read_label_image(temp_path("cut.nii.gz")); }).find("truncated"),
             std::string::npos);
+}
+
+// A gzip bomb: a small .nii.gz whose header announces far more voxels than the reader may take
+// (the zeros inflate 1000:1). Refused from the header, before anything is inflated or allocated:
+// the old reader took the whole image into 64-bit pixels first (a 1 GiB file: 10 GB).
+TEST(ImageIo, AHeaderOverTheVoxelLimitIsRefusedBeforeTheVoxelsAreRead) {
+  const std::string small = temp_path("small.nii");
+  write_nifti(hypersphere_phantom({8, 8, 8, 2}, {1, 1, 1, 1}, 3), small);
+  std::string header;
+  {
+    std::ifstream in(small, std::ios::binary);
+    header.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  ASSERT_GE(header.size(), 352u);
+  header.resize(352);  // the NIfTI-1 header and its 4 extension bytes: voxels start here
+  const std::int16_t dims[4] = {256, 256, 128, 4};  // 32 Mi uint8 voxels
+  std::memcpy(&header[42], dims, sizeof dims);
+  const std::string bomb = temp_path("bomb.nii.gz");
+  gzFile out = gzopen(bomb.c_str(), "wb1");
+  ASSERT_NE(out, nullptr);
+  gzwrite(out, header.data(), static_cast<unsigned>(header.size()));
+  const std::vector<char> zeros(1 << 20, 0);
+  for (int mb = 0; mb < 32; ++mb) gzwrite(out, zeros.data(), static_cast<unsigned>(zeros.size()));
+  gzclose(out);
+  EXPECT_LT(fs::file_size(bomb), 256u << 10);
+
+  const auto peak_kb = [] {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return u.ru_maxrss;
+  };
+  const long before = peak_kb();
+  EXPECT_THROW(read_label_image(bomb, nullptr, 16u << 20), ImageTooLarge);
+  EXPECT_NE(error_of([&] { read_label_image(bomb, nullptr, 16u << 20); }).find("33554432 voxels"),
+            std::string::npos);
+  EXPECT_LT(peak_kb() - before, 32 * 1024) << "KiB more at the peak";
+  // Within the limit the same file is read.
+  EXPECT_EQ(read_label_image(bomb, nullptr, 64u << 20).voxel_count(), 32u << 20);
+}
+
+// A header that asks for a few voxels followed by a stream that inflates far beyond them: only
+// the voxels are inflated and read.
+TEST(ImageIo, BytesPastTheVoxelsAreNotRead) {
+  const auto image = hypersphere_phantom({8, 8, 8, 4}, {1, 1, 1, 1}, 3);
+  const std::string plain = temp_path("tail.nii");
+  write_nifti(image, plain);
+  std::string bytes;
+  {
+    std::ifstream in(plain, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const std::string tail = temp_path("tail.nii.gz");
+  gzFile out = gzopen(tail.c_str(), "wb1");
+  gzwrite(out, bytes.data(), static_cast<unsigned>(bytes.size()));
+  // Then a stream that is not even valid past the first megabytes: never reached.
+  const std::vector<char> zeros(1 << 20, 0);
+  for (int mb = 0; mb < 8; ++mb) gzwrite(out, zeros.data(), static_cast<unsigned>(zeros.size()));
+  gzclose(out);
+  std::string gz;
+  {
+    std::ifstream in(tail, std::ios::binary);
+    gz.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  gz.resize(gz.size() - 64);  // cut inside the trailing zeros' compressed data
+  std::ofstream(tail, std::ios::binary | std::ios::trunc) << gz;
+  expect_same(read_label_image(tail), image);
 }
 
 // The paper's patients (../shared/data/heart4d/README.md): dims, in-plane spacing, labels 0-2.
