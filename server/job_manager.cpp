@@ -13,6 +13,7 @@
 #include "job_runner.h"
 #include "proto_convert.h"
 #include "refine/refiner.h"
+#include "wire/digest.h"
 #include "wire/service_error.h"
 #include "wire/upload_codec.h"
 
@@ -90,6 +91,23 @@ std::vector<std::string> JobManager::start() {
     std::lock_guard lock(mu_);
     for (auto& job : jobs) {
       auto e = std::make_unique<Entry>();
+      if (job.state() == v1::JOB_STATE_SUCCEEDED) {
+        std::string mesh;
+        if (job.result_sha256().empty()) {
+          // A record from before results had checksums: the file as it is now is trusted.
+          try {
+            job.set_result_sha256(wire::sha256(store_.read_result(job.id())));
+            store_.save(job);
+          } catch (const std::exception&) {
+          }
+        }
+        if (const std::string problem = result_problem(job, &mesh); !problem.empty()) {
+          problems.push_back("job " + job.id() + ": " + problem + "; it is now FAILED");
+          job.set_error(problem + " (submit the job again)");
+          job.set_state(v1::JOB_STATE_FAILED);
+          store_.save(job);
+        }
+      }
       if (!terminal(job.state())) {
         // Queued, or running when the server stopped: runs again from the start.
         if (job.state() != v1::JOB_STATE_QUEUED) {
@@ -304,7 +322,24 @@ JobManager::Page JobManager::list(v1::JobState state, std::uint32_t page_size,
   return page;
 }
 
-JobManager::Result JobManager::result(const std::string& id) const {
+std::string JobManager::result_problem(const v1::Job& job, std::string* mesh) const {
+  try {
+    *mesh = store_.read_result(job.id());
+  } catch (const std::exception&) {
+    return "the stored result is missing or unreadable";
+  }
+  if (wire::sha256(*mesh) != job.result_sha256())
+    return "the stored result is corrupt: its SHA-256 is not the one taken when it was written";
+  return "";
+}
+
+void JobManager::lose_result(Entry& e, const std::string& problem) {
+  log_job(spdlog::level::err, e.job.id(), "{}; the job is now FAILED", problem);
+  e.job.set_error(problem + " (submit the job again)");
+  set_state(e, v1::JOB_STATE_FAILED);
+}
+
+JobManager::Result JobManager::result(const std::string& id) {
   Result r;
   {
     std::lock_guard lock(mu_);
@@ -319,13 +354,14 @@ JobManager::Result JobManager::result(const std::string& id) const {
                                    ": a result exists once it has SUCCEEDED");
     r.job = view(e);
   }
-  try {
-    r.mesh = store_.read_result(id);
-  } catch (const std::exception& ex) {
-    throw wire::ServiceError(wire::ErrorCode::internal,
-                             std::string("cannot read the result: ") + ex.what());
-  }
-  return r;
+  // Read and hashed outside the lock: a large mesh must not stall the other calls.
+  const std::string problem = result_problem(r.job, &r.mesh);
+  if (problem.empty()) return r;
+  std::lock_guard lock(mu_);
+  if (const auto it = jobs_.find(id);
+      it != jobs_.end() && it->second->job.state() == v1::JOB_STATE_SUCCEEDED)
+    lose_result(*it->second, problem);
+  throw wire::ServiceError(wire::ErrorCode::data_loss, "job " + id + ": " + problem);
 }
 
 v1::JobEvent JobManager::snapshot(const std::string& id) const {
@@ -468,7 +504,9 @@ void JobManager::run(const std::string& id) {
       throw std::runtime_error(why);
     }
     store_.save_result(id, outcome.mesh);
+    const std::string checksum = wire::sha256(outcome.mesh);
     std::lock_guard lock(mu_);
+    entry->job.set_result_sha256(checksum);
     *entry->job.mutable_stats() = to_proto(outcome.stats);
     add_certificate(outcome.certificate, entry->job.mutable_stats());
     entry->job.clear_warnings();

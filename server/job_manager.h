@@ -74,7 +74,10 @@ class JobManager {
     v1::Job job;
     std::string mesh;
   };
-  Result result(const std::string& id) const;
+  /// A SUCCEEDED job's mesh, checked against the checksum taken when it was written. A result
+  /// that is missing, unreadable or altered throws wire::ServiceError(data_loss), and the job
+  /// becomes FAILED with the reason.
+  Result result(const std::string& id);
 
   /// How a watch ended: the job reached a final state, it was deleted, or the watcher left
   /// (on_event returned false, or `cancelled` true).
@@ -109,7 +112,11 @@ class JobManager {
   Entry& find(const std::string& id) const;      // throws not_found; with mu_ held
   void publish(Entry& e, v1::JobEvent event);    // with mu_ held
   void set_state(Entry& e, v1::JobState state);  // with mu_ held: persists, publishes
-  v1::Job view(const Entry& e) const;            // with queue_position filled in
+  // What is wrong with a job's stored result ("" when it is whole); `mesh` receives it.
+  std::string result_problem(const v1::Job& job, std::string* mesh) const;
+  // A SUCCEEDED job whose result is lost: FAILED, saying why (with mu_ held).
+  void lose_result(Entry& e, const std::string& problem);
+  v1::Job view(const Entry& e) const;  // with queue_position filled in
   void runner_loop();
   void run(const std::string& id);
   void sweep_expired();  // with mu_ held

@@ -28,6 +28,8 @@ grpc::Status to_status(const wire::ServiceError& e) {
       return {grpc::StatusCode::RESOURCE_EXHAUSTED, e.what()};
     case wire::ErrorCode::internal:
       return {grpc::StatusCode::INTERNAL, e.what()};
+    case wire::ErrorCode::data_loss:
+      return {grpc::StatusCode::DATA_LOSS, e.what()};
   }
   return {grpc::StatusCode::UNKNOWN, e.what()};
 }
@@ -154,7 +156,7 @@ grpc::Status MeshService::GetResult(grpc::ServerContext* context,
     *header->mutable_stats() = result.job.stats();
     for (const auto& w : result.job.warnings()) header->add_warnings(w);
     header->set_byte_size(result.mesh.size());
-    header->set_sha256(wire::sha256(result.mesh));
+    header->set_sha256(result.job.result_sha256());  // what result() checked the mesh against
     if (!writer->Write(message)) return grpc::Status(grpc::StatusCode::CANCELLED, "reader left");
     for (std::size_t at = 0; at < result.mesh.size(); at += kResultChunk) {
       message.Clear();

@@ -49,6 +49,8 @@ HttpError to_http(const wire::ServiceError& e) {
       return {429, "RESOURCE_EXHAUSTED", e.what()};
     case wire::ErrorCode::internal:
       return {500, "INTERNAL", e.what()};
+    case wire::ErrorCode::data_loss:
+      return {500, "DATA_LOSS", e.what()};
   }
   return {500, "UNKNOWN", e.what()};
 }
@@ -443,7 +445,7 @@ class RestApi::Handler : public CivetHandler {
 
   void mesh(mg_connection* c, const std::string& id) {
     const auto result = jobs_.result(id);
-    const std::string digest = wire::sha256_hex(result.mesh);
+    const std::string digest = wire::sha256_hex(result.mesh);  // checked against the job's
     send(c, 200, "application/octet-stream", result.mesh,
          "Content-Disposition: attachment; filename=\"" + id +
              ".m4d\"\r\nX-Mesh4d-SHA256: " + digest + "\r\n");

@@ -14,6 +14,7 @@ enum class ErrorCode {
   cancelled,            // the result of a job that was cancelled
   resource_exhausted,   // queue full, image or vertex budget over the limit
   internal,             // the server's own fault (disk full, ...)
+  data_loss,            // a stored result that no longer matches the checksum taken at writing
 };
 
 class ServiceError : public std::runtime_error {
