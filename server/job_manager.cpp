@@ -1,5 +1,6 @@
 #include "job_manager.h"
 
+#include <google/protobuf/util/message_differencer.h>
 #include <google/protobuf/util/time_util.h>
 
 #include <algorithm>
@@ -164,15 +165,27 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
   const unsigned threads = spec.params().threads() == 0
                                ? config_.threads_per_job
                                : std::min(spec.params().threads(), config_.threads_per_job);
+  // The parameters as the job keeps them, the server's defaults filled in.
+  v1::RefineParams stored = to_proto(params, threads);
+  stored.set_extend_time_frames(spec.params().extend_time_frames());
+  stored.set_strict(spec.params().strict());
+  stored.set_min_island_voxels(spec.params().has_min_island_voxels()
+                                   ? spec.params().min_island_voxels()
+                                   : domain::kDefaultMinIslandVoxels);
+  // A retry (same request_id) gets the first job back, but only when it asks for the same mesh.
   auto duplicate = [&]() -> const Entry* {
     if (spec.request_id().empty()) return nullptr;
     const auto it = by_request_id_.find(spec.request_id());
     if (it == by_request_id_.end()) return nullptr;
     const Entry& e = find(it->second);
-    if (e.job.image().sha256() != spec.image().sha256())
-      throw wire::ServiceError(wire::ErrorCode::invalid_argument,
-                               "request_id '" + spec.request_id() +
-                                   "' was already used for another image (job " + e.job.id() + ")");
+    using google::protobuf::util::MessageDifferencer;
+    const bool same_image = MessageDifferencer::Equals(e.job.image(), spec.image());
+    if (!same_image || !MessageDifferencer::Equals(e.job.params(), stored))
+      throw wire::ServiceError(wire::ErrorCode::already_exists,
+                               "request_id '" + spec.request_id() + "' was already used for job " +
+                                   e.job.id() + " with a different " +
+                                   (same_image ? "parameters" : "image") +
+                                   "; a new submission needs a new request_id");
     return &e;
   };
   {
@@ -196,12 +209,7 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
   job.set_name(spec.name());
   job.set_request_id(spec.request_id());
   *job.mutable_image() = spec.image();
-  *job.mutable_params() = to_proto(params, threads);
-  job.mutable_params()->set_extend_time_frames(spec.params().extend_time_frames());
-  job.mutable_params()->set_strict(spec.params().strict());
-  job.mutable_params()->set_min_island_voxels(spec.params().has_min_island_voxels()
-                                                  ? spec.params().min_island_voxels()
-                                                  : domain::kDefaultMinIslandVoxels);
+  *job.mutable_params() = stored;
   *job.mutable_created() = TimeUtil::GetCurrentTime();
   for (auto& w : warnings) job.add_warnings(w);
   try {
@@ -493,6 +501,14 @@ void JobManager::run(const std::string& id) {
   try {
     const std::string input = store_.read_input(id);
     JobOutcome outcome = runner_(header, params, preparation, input, sink);
+    // A mesh without pentatopes is no result, whatever made it so.
+    if (outcome.stats.pentatopes == 0) {
+      std::ostringstream why;
+      why << "the mesh is empty: no pentatope lies in the object at delta " << params.delta
+          << " (a delta larger than the object, or an object thinner than delta in every "
+             "frame, as a single frame is in time: use a smaller delta, or extend_time_frames)";
+      throw std::runtime_error(why.str());
+    }
     const std::vector<std::string> defects = outcome.certificate.defects();
     if (strict && !defects.empty()) {
       // The certificate goes with the failed job, for the user to see why.

@@ -4,6 +4,7 @@
 
 #include <chrono>
 
+#include "bearer_token.h"
 #include "mesh/mesh_io.h"
 #include "wire/digest.h"
 #include "wire/service_error.h"
@@ -30,6 +31,8 @@ grpc::Status to_status(const wire::ServiceError& e) {
       return {grpc::StatusCode::INTERNAL, e.what()};
     case wire::ErrorCode::data_loss:
       return {grpc::StatusCode::DATA_LOSS, e.what()};
+    case wire::ErrorCode::already_exists:
+      return {grpc::StatusCode::ALREADY_EXISTS, e.what()};
   }
   return {grpc::StatusCode::UNKNOWN, e.what()};
 }
@@ -57,7 +60,7 @@ grpc::Status MeshService::authorize(const grpc::ServerContext* context) const {
     return {grpc::StatusCode::UNAUTHENTICATED,
             "this server requires a token: send 'authorization: Bearer <token>'"};
   const std::string value(it->second.data(), it->second.size());
-  if (value != "Bearer " + token_)
+  if (!bearer_token_matches(value, token_))
     return {grpc::StatusCode::PERMISSION_DENIED, "the token is not valid for this server"};
   return grpc::Status::OK;
 }

@@ -1,5 +1,9 @@
 #include "proto_convert.h"
 
+#include <string>
+
+#include "wire/service_error.h"
+
 namespace mesh4d::server {
 namespace {
 
@@ -32,6 +36,11 @@ refine::RefineParams to_engine(const v1::RefineParams& p) {
   if (p.picking_trials() != 0) r.picking_trials = p.picking_trials();
   if (p.sliver_bound() != 0) r.sliver_bound = p.sliver_bound();
   r.max_interior_radius = p.max_interior_radius();
+  // An open proto enum carries any number: one this server does not know is a mistake.
+  if (!v1::RuleOrder_IsValid(p.rule_order()))
+    throw wire::ServiceError(wire::ErrorCode::invalid_argument,
+                             "params.rule_order " + std::to_string(p.rule_order()) +
+                                 " is not one of 0 (default), 1 (R3 first), 2 (paper)");
   if (p.rule_order() == v1::RULE_ORDER_PAPER) r.rule_order = refine::RuleOrder::paper;
   if (p.seed() != 0) r.seed = p.seed();
   if (p.vertex_budget() != 0) r.vertex_budget = p.vertex_budget();

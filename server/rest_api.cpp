@@ -4,6 +4,7 @@
 #include <google/protobuf/util/json_util.h>
 #include <spdlog/spdlog.h>
 
+#include <atomic>
 #include <cctype>
 #include <chrono>
 #include <cstdio>
@@ -15,6 +16,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "bearer_token.h"
 #include "embedded_files.h"
 #include "mesh/mesh_io.h"
 #include "mesh/mesh_slice.h"
@@ -51,6 +53,8 @@ HttpError to_http(const wire::ServiceError& e) {
       return {500, "INTERNAL", e.what()};
     case wire::ErrorCode::data_loss:
       return {500, "DATA_LOSS", e.what()};
+    case wire::ErrorCode::already_exists:
+      return {409, "ALREADY_EXISTS", e.what()};
   }
   return {500, "UNKNOWN", e.what()};
 }
@@ -73,6 +77,10 @@ const char* reason(int status) {
       return "Not Found";
     case 405:
       return "Method Not Allowed";
+    case 408:
+      return "Request Timeout";
+    case 409:
+      return "Conflict";
     case 429:
       return "Too Many Requests";
     case 499:
@@ -167,6 +175,9 @@ const char* event_name(const v1::JobEvent& e) {
 
 }  // namespace
 
+// Event streams open at once: each holds one of civetweb's workers for as long as it lasts.
+constexpr std::size_t kMaxEventStreams = 128;
+
 class RestApi::Handler : public CivetHandler {
  public:
   Handler(JobManager& jobs, std::string token, std::uint64_t max_body, JobObserver* observer)
@@ -259,7 +270,7 @@ class RestApi::Handler : public CivetHandler {
     if (presented.empty())
       throw HttpError{401, "UNAUTHENTICATED",
                       "this server requires a token: send 'Authorization: Bearer <token>'"};
-    if (presented != "Bearer " + token_)
+    if (!bearer_token_matches(presented, token_))
       throw HttpError{403, "PERMISSION_DENIED", "the token is not valid for this server"};
   }
 
@@ -408,6 +419,16 @@ class RestApi::Handler : public CivetHandler {
   // "id:" its sequence, "data:" the JobEvent as JSON), until the job ends. A reconnecting
   // EventSource sends Last-Event-ID and gets the events after it.
   void events(mg_connection* c, const std::string& id) {
+    // Each stream holds a worker until its job ends: past the cap, clients poll instead.
+    struct Admission {
+      std::atomic<std::size_t>& open;
+      ~Admission() { --open; }
+    } admission{open_streams_};
+    if (++open_streams_ > kMaxEventStreams)
+      throw wire::ServiceError(wire::ErrorCode::resource_exhausted,
+                               "too many event streams are open (" +
+                                   std::to_string(kMaxEventStreams) + "); poll GET /v1/jobs/" + id +
+                                   " instead, or retry later");
     std::uint64_t after = 0;
     if (const char* last = mg_get_header(c, "Last-Event-ID")) {
       char* end = nullptr;
@@ -429,9 +450,10 @@ class RestApi::Handler : public CivetHandler {
                                   "\ndata: " + to_json(e) + "\n\n";
       return mg_write(c, message.data(), message.size()) > 0;
     };
-    // A comment now and then finds a reader that left while nothing happened.
+    // A comment every second finds a reader that left while nothing happened, and frees its
+    // worker.
     const auto reader_left = [&] {
-      if (++quiet < 20) return false;
+      if (++quiet < 2) return false;
       quiet = 0;
       return mg_write(c, ":\n\n", 3) <= 0;
     };
@@ -480,15 +502,39 @@ class RestApi::Handler : public CivetHandler {
   const std::string token_;
   const std::uint64_t max_body_;
   JobObserver* observer_;
+  std::atomic<std::size_t> open_streams_{0};
 };
+
+namespace {
+
+// civetweb's own errors (a malformed request line, headers too long, a timeout) in the API's
+// JSON form.
+int json_http_error(mg_connection* c, int status, const char* message) {
+  send_error(c, {status, status == 408 ? "DEADLINE_EXCEEDED" : "INVALID_ARGUMENT",
+                 message ? message : "bad request"});
+  return 0;
+}
+
+}  // namespace
 
 RestApi::RestApi(JobManager& jobs, const std::string& listen, std::string token,
                  std::uint64_t max_body_bytes, JobObserver* observer)
     : handler_(std::make_unique<Handler>(jobs, std::move(token), max_body_bytes, observer)) {
-  const std::vector<std::string> options = {"listening_ports",   listen, "num_threads", "32",
-                                            "enable_keep_alive", "no"};
+  // One worker per open connection (civetweb's model): the pool is large enough for every event
+  // stream the handler admits (kMaxEventStreams) and as many other clients again, and a client
+  // that sends its request slowly, or sits idle on a kept-alive connection, loses its worker
+  // after the timeouts.
+  const std::vector<std::string> options = {
+      "listening_ports",    listen, "num_threads",           std::to_string(2 * kMaxEventStreams),
+      "enable_keep_alive",  "yes",  "keep_alive_timeout_ms", "5000",
+      "request_timeout_ms", "10000"};
+  static const CivetCallbacks callbacks = [] {
+    CivetCallbacks c;
+    c.http_error = json_http_error;
+    return c;
+  }();
   try {
-    server_ = std::make_unique<CivetServer>(options);
+    server_ = std::make_unique<CivetServer>(options, &callbacks);
   } catch (const CivetException& e) {
     throw std::runtime_error(std::string("cannot serve HTTP on ") + listen + ": " + e.what());
   }

@@ -10,7 +10,9 @@
 #include <itkNrrdImageIOFactory.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <mutex>
 #include <sstream>
@@ -36,10 +38,17 @@ bool is_integer_component(itk::IOComponentEnum c) {
          c == C::INT || c == C::ULONG || c == C::LONG || c == C::ULONGLONG || c == C::LONGLONG;
 }
 
-// A NIfTI header's voxel offset; -1 when the bytes are not a NIfTI header. sizeof_hdr says the
-// version (348: NIfTI-1, vox_offset a float at 108; 540: NIfTI-2, an int64 at 168) and, read
-// swapped, the byte order.
-double nifti_voxel_offset(const std::array<unsigned char, 176>& header) {
+// What mesh4d checks in a NIfTI header before ITK reads it. sizeof_hdr says the version and,
+// read swapped, the byte order: NIfTI-1 (348) has dim as int16[8] at 40, pixdim as float[8] at
+// 76 and vox_offset as a float at 108; NIfTI-2 (540) has dim as int64[8] at 16, pixdim as
+// double[8] at 104 and vox_offset as an int64 at 168.
+struct NiftiFacts {
+  double voxel_offset = -1;  // -1: not a NIfTI header
+  int dims = 0;
+  std::array<double, 4> spacing{};  // pixdim[1..4]
+};
+
+NiftiFacts read_nifti_facts(const std::array<unsigned char, 176>& header) {
   const auto read = [&](std::size_t at, std::size_t bytes, bool swap) {
     std::array<unsigned char, 8> b{};
     for (std::size_t k = 0; k < bytes; ++k) b[k] = header[at + (swap ? bytes - 1 - k : k)];
@@ -54,17 +63,44 @@ double nifti_voxel_offset(const std::array<unsigned char, 176>& header) {
       break;
     }
   }
+  NiftiFacts facts;
   if (sizeof_hdr == 348) {
     float f32;
     std::memcpy(&f32, read(108, 4, swap).data(), 4);
-    return f32;
-  }
-  if (sizeof_hdr == 540) {
+    facts.voxel_offset = f32;
+    std::int16_t i16;
+    std::memcpy(&i16, read(40, 2, swap).data(), 2);
+    facts.dims = i16;
+    for (int a = 0; a < 4; ++a) {
+      std::memcpy(&f32, read(80 + 4 * a, 4, swap).data(), 4);
+      facts.spacing[a] = f32;
+    }
+  } else if (sizeof_hdr == 540) {
     std::int64_t i64;
     std::memcpy(&i64, read(168, 8, swap).data(), 8);
-    return static_cast<double>(i64);
+    facts.voxel_offset = static_cast<double>(i64);
+    std::memcpy(&i64, read(16, 8, swap).data(), 8);
+    facts.dims = static_cast<int>(std::clamp<std::int64_t>(i64, 0, 7));
+    for (int a = 0; a < 4; ++a) {
+      double f64;
+      std::memcpy(&f64, read(112 + 8 * a, 8, swap).data(), 8);
+      facts.spacing[a] = f64;
+    }
   }
-  return -1;
+  return facts;
+}
+
+// ITK reads a voxel size of 0 or NaN as 1, and a negative one as its absolute value: a header
+// that says so is refused, as the gRPC face refuses such a spacing.
+void check_nifti_spacing(const std::string& path, const NiftiFacts& facts) {
+  static const char* axis[4] = {"x", "y", "z", "t"};
+  for (int a = 0; a < std::min(facts.dims, 4); ++a)
+    if (!std::isfinite(facts.spacing[a]) || facts.spacing[a] <= 0) {
+      std::ostringstream m;
+      m << path << ": the header's voxel size along " << axis[a] << " (pixdim[" << a + 1 << "]) is "
+        << facts.spacing[a] << "; it must be a finite positive number";
+      throw ImageError(m.str());
+    }
 }
 
 // ITK's NIfTI reader takes a file that ends early, compressed or not, for a whole one (the
@@ -85,9 +121,10 @@ void check_nifti_complete(const std::string& path, std::uint64_t voxel_bytes) {
       header[total + i] = static_cast<unsigned char>(buffer[i]);
     total += static_cast<std::uint64_t>(n);
     if (needed < 0 && total >= header.size()) {
-      needed = nifti_voxel_offset(header);
-      if (needed < 0) break;  // not a NIfTI header: ITK will say what it is
-      needed += double(voxel_bytes);
+      const NiftiFacts facts = read_nifti_facts(header);
+      if (facts.voxel_offset < 0) break;  // not a NIfTI header: ITK will say what it is
+      check_nifti_spacing(path, facts);
+      needed = facts.voxel_offset + double(voxel_bytes);
     }
   }
   int code = Z_OK;
@@ -95,7 +132,7 @@ void check_nifti_complete(const std::string& path, std::uint64_t voxel_bytes) {
   const int closed = gzclose_r(f);
   if (n < 0) throw ImageError(path + ": the compressed data is corrupt (" + error + ")");
   if (needed < 0 && total < header.size()) {  // shorter than a header
-    needed = nifti_voxel_offset(header);
+    needed = read_nifti_facts(header).voxel_offset;
     if (needed >= 0) needed += double(voxel_bytes);
   }
   if (needed < 0 || double(total) >= needed) return;  // not a NIfTI file, or complete

@@ -15,6 +15,7 @@ enum class ErrorCode {
   resource_exhausted,   // queue full, image or vertex budget over the limit
   internal,             // the server's own fault (disk full, ...)
   data_loss,            // a stored result that no longer matches the checksum taken at writing
+  already_exists,       // a request_id reused for a different image or parameters
 };
 
 class ServiceError : public std::runtime_error {

@@ -81,7 +81,16 @@ TEST(BadInput, EachBadUploadGetsItsStatusAndTheServerStaysHealthy) {
          u = make_upload(domain::hypersphere_phantom({16, 16, 16, 16}, {1, 1, 1, 1}, 6), 3,
                          "first");
        },
-       grpc::StatusCode::INVALID_ARGUMENT, "already used"},
+       grpc::StatusCode::ALREADY_EXISTS, "already used"},
+      {"request id reused with other parameters",
+       [&](Upload& u) {
+         u.spec.set_request_id("first");
+         u.spec.mutable_params()->set_delta(4);
+       },
+       grpc::StatusCode::ALREADY_EXISTS, "different parameters"},
+      {"rule order the server does not know",
+       [&](Upload& u) { u.spec.mutable_params()->set_rule_order(static_cast<v1::RuleOrder>(99)); },
+       grpc::StatusCode::INVALID_ARGUMENT, "rule_order 99"},
   };
   // The reused request id needs a first job under that id.
   const Upload first = make_upload(image, 3, "first");

@@ -210,7 +210,9 @@ TEST(RestApi, EveryErrorOfTheGrpcTableHasItsHttpStatus) {
       {"body over the limit", "/v1/jobs", body(dir + "/big.bin"), 429, "RESOURCE_EXHAUSTED",
        "limit"},
       {"request id reused for another image", "/v1/jobs?request_id=first",
-       body(dir + "/other.nii.gz"), 400, "INVALID_ARGUMENT", "already used"},
+       body(dir + "/other.nii.gz"), 409, "ALREADY_EXISTS", "already used"},
+      {"request id reused with other parameters", "/v1/jobs?request_id=first&delta=4", body(sphere),
+       409, "ALREADY_EXISTS", "different parameters"},
       {"unknown job", "/v1/jobs/no-such-job", {}, 404, "NOT_FOUND", "no-such-job"},
       {"delete unknown job", "/v1/jobs/no-such-job", {"-X", "DELETE"}, 404, "NOT_FOUND", "no job"},
       {"cancel unknown job",
@@ -284,6 +286,10 @@ TEST(RestApi, TokenIsRequiredWhenConfigured) {
   EXPECT_EQ(wrong.status, 403);
   EXPECT_EQ(wrong.json()["code"], "PERMISSION_DENIED");
   EXPECT_EQ(curl(dir, base + "/v1/jobs", {"-H", "Authorization: Bearer s3cret"}).status, 200);
+  // The scheme is case-insensitive (RFC 7235); the token is not.
+  EXPECT_EQ(curl(dir, base + "/v1/jobs", {"-H", "Authorization: bearer s3cret"}).status, 200);
+  EXPECT_EQ(curl(dir, base + "/v1/jobs", {"-H", "Authorization: BEARER s3cret"}).status, 200);
+  EXPECT_EQ(curl(dir, base + "/v1/jobs", {"-H", "Authorization: bearer S3CRET"}).status, 403);
   EXPECT_EQ(curl(dir, base + "/v1/jobs?access_token=s3cret").status, 200);
   EXPECT_EQ(curl(dir, base + "/").status, 200) << "the page itself is public; its calls are not";
 }

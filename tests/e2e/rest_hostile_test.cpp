@@ -1,13 +1,21 @@
 // The REST face against hostile and careless clients (curl and raw sockets against the real
 // server): each attack of the service-hardening list reproduced, and what the server must do.
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <memory>
 #include <sstream>
+#include <thread>
 
 #include "domain/image_io.h"
 #include "domain/phantoms.h"
@@ -44,6 +52,41 @@ void write_zero_nifti_gz(const std::string& dir, const std::string& path,
             static_cast<unsigned>(std::min<std::uint64_t>(zeros.size(), bytes - done)));
   gzclose(out);
 }
+
+// A TCP connection to the server's REST port that sends `request` and keeps the socket open.
+class RawConnection {
+ public:
+  RawConnection(int port, const std::string& request) {
+    fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(static_cast<std::uint16_t>(port));
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (::connect(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+      ::close(fd_);
+      fd_ = -1;
+      return;
+    }
+    ::send(fd_, request.data(), request.size(), MSG_NOSIGNAL);
+  }
+  ~RawConnection() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  RawConnection(const RawConnection&) = delete;
+  RawConnection& operator=(const RawConnection&) = delete;
+  bool connected() const { return fd_ >= 0; }
+  // What the server sent within `ms` (up to 4 KiB).
+  std::string read_some(int ms) {
+    pollfd p{fd_, POLLIN, 0};
+    if (::poll(&p, 1, ms) <= 0) return "";
+    char buffer[4096];
+    const ssize_t n = ::recv(fd_, buffer, sizeof buffer, 0);
+    return n > 0 ? std::string(buffer, static_cast<std::size_t>(n)) : "";
+  }
+
+ private:
+  int fd_ = -1;
+};
 
 // 1. A gzip bomb: refused from its header at once, in bounded memory, with a JSON error that
 // names no server path.
@@ -145,6 +188,122 @@ TEST(RestHostile, CorruptResultsAreRefusedAndTheJobSaysWhy) {
   std::filesystem::resize_file(result_file(ids[3]), 100);
   EXPECT_EQ(get_result(*stub, ids[3]), grpc::StatusCode::DATA_LOSS);
   EXPECT_EQ(curl(dir, base + "/v1/jobs/" + ids[3]).json()["state"], "JOB_STATE_FAILED");
+}
+
+// 2. Event streams and clients that send half a request do not starve the REST face: with every
+// stream the server admits open on a queued job and 60 connections stuck in their headers, a
+// listing still answers within 2 s; one stream more is refused (429, JSON), not queued.
+TEST(RestHostile, OpenStreamsAndHalfSentHeadersDoNotStarveOtherCalls) {
+  const std::string dir = make_temp_dir("mesh4d-rest-starve");
+  RunningServer server(dir + "/data", {"--running-jobs", "1"});
+  const int port = server.http_port();
+  const std::string base = "http://127.0.0.1:" + std::to_string(port);
+  const std::string sphere = dir + "/sphere.nii.gz";
+  domain::write_nifti(domain::hypersphere_phantom({24, 24, 24, 24}, {1, 1, 1, 1}, 8), sphere);
+  // A slow job runs; the next one waits behind it, so its streams stay open.
+  const std::string slow = curl(dir, base + "/v1/jobs?delta=1.2&threads=1&vertex_budget=400000",
+                                {"--data-binary", "@" + sphere})
+                               .json()["job"]["id"];
+  const std::string queued =
+      curl(dir, base + "/v1/jobs?delta=3", {"--data-binary", "@" + sphere}).json()["job"]["id"];
+  std::vector<std::unique_ptr<RawConnection>> streams;
+  std::size_t admitted = 0;
+  for (int k = 0; k < 128; ++k) {
+    streams.push_back(std::make_unique<RawConnection>(
+        port, "GET /v1/jobs/" + queued + "/events HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n"));
+    admitted += streams.back()->read_some(5000).rfind("HTTP/1.1 200", 0) == 0;
+  }
+  EXPECT_EQ(admitted, 128u);
+  const Http refused = curl(dir, base + "/v1/jobs/" + queued + "/events", {}, 10);
+  EXPECT_EQ(refused.status, 429) << refused.body;
+  EXPECT_EQ(refused.json()["code"], "RESOURCE_EXHAUSTED") << refused.body;
+  std::vector<std::unique_ptr<RawConnection>> stuck;
+  for (int k = 0; k < 60; ++k) {
+    stuck.push_back(
+        std::make_unique<RawConnection>(port, "GET /v1/jobs HTTP/1.1\r\nHost: 127.0.0.1\r\n"));
+    EXPECT_TRUE(stuck.back()->connected());
+  }
+  const Http listed = curl(dir, base + "/v1/jobs", {"--max-time", "2"}, 10);
+  EXPECT_EQ(listed.status, 200) << "no answer within 2 s";
+  // A header never finished is dropped, with a JSON error, once the request timeout passes.
+  const std::string dropped = stuck.front()->read_some(15000);
+  EXPECT_EQ(dropped.rfind("HTTP/1.1 4", 0), 0u) << dropped;
+  EXPECT_NE(dropped.find("application/json"), std::string::npos) << dropped;
+  EXPECT_NE(dropped.find("\"code\""), std::string::npos) << dropped;
+  curl(dir, base + "/v1/jobs/" + slow + "/cancel", {"-X", "POST"});
+  curl(dir, base + "/v1/jobs/" + queued + "/cancel", {"-X", "POST"});
+}
+
+// 8. Silent nonsense: what cannot give a mesh is refused with its reason, or ends FAILED
+// saying why, never SUCCEEDED with an empty mesh.
+TEST(RestHostile, NonsenseIsRefusedOrFailsSayingWhy) {
+  const std::string dir = make_temp_dir("mesh4d-rest-nonsense");
+  RunningServer server(dir + "/data");
+  const std::string base = "http://127.0.0.1:" + std::to_string(server.http_port());
+  const std::string sphere = dir + "/sphere.nii";
+  domain::write_nifti(domain::hypersphere_phantom({16, 16, 16, 16}, {1, 1, 1, 1}, 6), sphere);
+  std::string bytes;
+  {
+    std::ifstream in(sphere, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  // A voxel size of NaN, 0 or a negative time step: ITK alone reads them as 1, 1 and 2.
+  const std::pair<int, float> bad_spacings[] = {
+      {0, std::numeric_limits<float>::quiet_NaN()}, {1, 0.0f}, {3, -2.0f}};
+  for (const auto& [axis, value] : bad_spacings) {
+    std::string patched = bytes;
+    std::memcpy(&patched[80 + 4 * axis], &value, 4);
+    const std::string file = dir + "/spacing" + std::to_string(axis) + ".nii";
+    std::ofstream(file, std::ios::binary) << patched;
+    const Http h = curl(dir, base + "/v1/jobs?delta=3", {"--data-binary", "@" + file});
+    EXPECT_EQ(h.status, 400) << h.body;
+    EXPECT_NE(h.body.find("pixdim[" + std::to_string(axis + 1) + "]"), std::string::npos) << h.body;
+  }
+  const Http order =
+      curl(dir, base + "/v1/jobs?delta=3&rule_order=99", {"--data-binary", "@" + sphere});
+  EXPECT_EQ(order.status, 400) << order.body;
+  // Accepted, but no mesh can come of them: FAILED, with the reason. A δ far over the object
+  // (REST), one voxel, and one frame (gRPC: a NIfTI file drops a single frame's axis), which
+  // may give a mesh but never an empty one.
+  const Http huge = curl(dir, base + "/v1/jobs?delta=1e12", {"--data-binary", "@" + sphere});
+  ASSERT_EQ(huge.status, 201) << huge.body;
+  std::vector<std::string> ids{huge.json()["job"]["id"]};
+  auto stub = server.stub();
+  domain::LabelImage4 dot({1, 1, 1, 1}, {1, 1, 1, 1});
+  dot.set(0, 1);
+  const auto ball = domain::hypersphere_phantom({16, 16, 16, 16}, {1, 1, 1, 1}, 6);
+  domain::LabelImage4 frame({16, 16, 16, 1}, {1, 1, 1, 1});
+  for (std::size_t i = 0; i < frame.voxel_count(); ++i) frame.set(i, ball.at(i + 8 * 16 * 16 * 16));
+  for (const auto* image : {&dot, &frame}) {
+    const Upload up = make_upload(*image, 3, "");
+    v1::SubmitJobResponse response;
+    ASSERT_TRUE(submit(*stub, up.spec, up.data, &response).ok());
+    ids.push_back(response.job().id());
+  }
+  const char* reasons[] = {"the mesh is empty", "no surface to mesh", ""};
+  for (std::size_t k = 0; k < ids.size(); ++k) {
+    const v1::Job job = wait_until_done(*stub, ids[k]);
+    SCOPED_TRACE(job.ShortDebugString());
+    if (k == 2 && job.state() == v1::JOB_STATE_SUCCEEDED) {
+      // One frame, closed half a frame before and after: a thin slab, meshed.
+      EXPECT_GT(job.stats().pentatopes(), 0u);
+      continue;
+    }
+    EXPECT_EQ(job.state(), v1::JOB_STATE_FAILED);
+    EXPECT_NE(job.error().find(reasons[k]), std::string::npos) << job.error();
+  }
+}
+
+// 5. Keep-alive: two requests on one connection both get answers (curl reuses it).
+TEST(RestHostile, TwoRequestsOnOneConnection) {
+  const std::string dir = make_temp_dir("mesh4d-rest-keepalive");
+  RunningServer server(dir + "/data");
+  const std::string url = "http://127.0.0.1:" + std::to_string(server.http_port()) + "/v1/jobs";
+  const RunResult r = run_command({"/usr/bin/curl", "-sS", "-v", "-o", "/dev/null", "-o",
+                                   "/dev/null", "-w", "%{http_code}\n", url, url});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("200\n200\n"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("Re-using existing connection"), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -187,8 +187,7 @@ TEST_F(JobManagerTest, RefusesPastTheQueueLimitAndDeduplicatesRequestIds) {
   EXPECT_TRUE(again.deduplicated);
   EXPECT_EQ(again.job.id(), first.job.id());
   const Upload other = upload(54, "request-a", 4);
-  EXPECT_EQ(refusal([&] { jobs.submit(other.spec, other.data); }),
-            wire::ErrorCode::invalid_argument)
+  EXPECT_EQ(refusal([&] { jobs.submit(other.spec, other.data); }), wire::ErrorCode::already_exists)
       << "one request id, two images";
   Upload corrupt = upload(55);
   corrupt.data[3] ^= 1;
