@@ -175,6 +175,9 @@ const char* event_name(const v1::JobEvent& e) {
 
 }  // namespace
 
+// The dashboard's session cookie (POST /v1/login): the token itself, HttpOnly.
+constexpr const char* kSessionCookie = "mesh4d_token";
+
 // Event streams open at once: each holds one of civetweb's workers for as long as it lasts.
 constexpr std::size_t kMaxEventStreams = 128;
 
@@ -218,6 +221,10 @@ class RestApi::Handler : public CivetHandler {
       send(c, 200, "application/yaml", embedded::openapi_yaml());
       return;
     }
+    if (uri == "/v1/login") {
+      require(method, "POST");
+      return login(c);
+    }
     if (uri != "/v1/jobs" && uri.rfind("/v1/jobs/", 0) != 0)
       throw HttpError{404, "NOT_FOUND", "no such path: " + uri + " (the API is under /v1/jobs)"};
     authorize(c, query);
@@ -259,14 +266,36 @@ class RestApi::Handler : public CivetHandler {
                       method + " is not supported here (use " + allowed + ")"};
   }
 
+  // The dashboard's sign-in: a valid token (JSON {"token": ...}) becomes a cookie that scripts
+  // cannot read (HttpOnly) and other sites cannot send (SameSite=Strict), so that the page
+  // never puts the token in a URL and its event streams (EventSource sets no headers) still
+  // authenticate.
+  void login(mg_connection* c) const {
+    std::string body;
+    read_body(c, body, 4096);
+    const auto json = nlohmann::json::parse(body, nullptr, false);
+    if (!json.is_object() || !json.contains("token") || !json["token"].is_string())
+      throw HttpError{400, "INVALID_ARGUMENT", "send {\"token\": \"...\"}"};
+    const std::string token = json["token"];
+    if (!token_.empty() && token != token_)
+      throw HttpError{403, "PERMISSION_DENIED", "the token is not valid for this server"};
+    send(c, 204, "application/json", "",
+         "Set-Cookie: " + std::string(kSessionCookie) + "=" + token +
+             "; HttpOnly; SameSite=Strict; Path=/\r\n");
+  }
+
   void authorize(mg_connection* c, const std::map<std::string, std::string>& query) const {
     if (token_.empty()) return;
     const char* header = mg_get_header(c, "Authorization");
     std::string presented;
+    char cookie[512];
     if (header)
       presented = header;
+    else if (const char* cookies = mg_get_header(c, "Cookie");
+             cookies && mg_get_cookie(cookies, kSessionCookie, cookie, sizeof cookie) > 0)
+      presented = std::string("Bearer ") + cookie;
     else if (const auto it = query.find("access_token"); it != query.end())
-      presented = "Bearer " + it->second;  // EventSource in browsers cannot set headers
+      presented = "Bearer " + it->second;  // for EventSource clients outside the dashboard
     if (presented.empty())
       throw HttpError{401, "UNAUTHENTICATED",
                       "this server requires a token: send 'Authorization: Bearer <token>'"};
@@ -343,13 +372,16 @@ class RestApi::Handler : public CivetHandler {
     bool stored = false;
   };
 
-  void read_body(mg_connection* c, std::string& body) const {
+  // The request body, up to `limit` bytes (0: the upload limit).
+  void read_body(mg_connection* c, std::string& body, std::uint64_t limit = 0) const {
+    if (limit == 0) limit = max_body_;
     const mg_request_info* ri = mg_get_request_info(c);
-    if (ri->content_length > 0) body.reserve(static_cast<std::size_t>(ri->content_length));
+    if (ri->content_length > 0 && static_cast<std::uint64_t>(ri->content_length) <= limit)
+      body.reserve(static_cast<std::size_t>(ri->content_length));
     std::vector<char> buffer(1 << 16);
     for (int n; (n = mg_read(c, buffer.data(), buffer.size())) > 0;) {
       body.append(buffer.data(), static_cast<std::size_t>(n));
-      if (body.size() > max_body_) throw too_big();
+      if (body.size() > limit) throw too_big();
     }
   }
 
@@ -435,34 +467,37 @@ class RestApi::Handler : public CivetHandler {
       const unsigned long long n = std::strtoull(last, &end, 10);
       if (end != last && *end == '\0') after = n;
     }
+    // Chunked, so that the stream has an end the client sees and the connection can be kept
+    // alive after it.
     bool started = false;
     int quiet = 0;  // half-second waits without an event
+    const auto chunk = [&](const std::string& text) {
+      return mg_send_chunk(c, text.data(), static_cast<unsigned>(text.size())) > 0;
+    };
     const auto write = [&](const v1::JobEvent& e) {
       if (!started) {  // an unknown id threw before this: a plain 404
         mg_printf(c,
                   "HTTP/1.1 200 OK\r\nContent-Type: text/event-stream\r\n"
-                  "Cache-Control: no-store\r\nConnection: close\r\n\r\n");
+                  "Cache-Control: no-store\r\nTransfer-Encoding: chunked\r\n\r\n");
         started = true;
       }
       quiet = 0;
-      const std::string message = "event: " + std::string(event_name(e)) +
-                                  "\nid: " + std::to_string(e.sequence()) +
-                                  "\ndata: " + to_json(e) + "\n\n";
-      return mg_write(c, message.data(), message.size()) > 0;
+      return chunk("event: " + std::string(event_name(e)) +
+                   "\nid: " + std::to_string(e.sequence()) + "\ndata: " + to_json(e) + "\n\n");
     };
     // A comment every second finds a reader that left while nothing happened, and frees its
     // worker.
     const auto reader_left = [&] {
       if (++quiet < 2) return false;
       quiet = 0;
-      return mg_write(c, ":\n\n", 3) <= 0;
+      return !chunk(":\n\n");
     };
-    if (jobs_.watch(id, after, write, reader_left) == JobManager::WatchEnd::job_deleted) {
-      const std::string gone =
-          "event: error\ndata: " +
-          nlohmann::json{{"code", "NOT_FOUND"}, {"message", "the job was deleted"}}.dump() + "\n\n";
-      mg_write(c, gone.data(), gone.size());
-    }
+    const auto end = jobs_.watch(id, after, write, reader_left);
+    if (end == JobManager::WatchEnd::job_deleted)
+      chunk("event: error\ndata: " +
+            nlohmann::json{{"code", "NOT_FOUND"}, {"message", "the job was deleted"}}.dump() +
+            "\n\n");
+    if (started && end != JobManager::WatchEnd::watcher_left) mg_send_chunk(c, "", 0);
   }
 
   void mesh(mg_connection* c, const std::string& id) {

@@ -2,7 +2,10 @@
 """The dashboard in a real browser: Debian's headless Chromium loads / from the real
 mesh4d-server while a job runs; through the DevTools protocol (python3-websocket) the test reads
 the page's DOM every half second and checks that the live progress numbers rise, and that the
-finished job shows its quality table, its normalized-volume histogram and a download link. A
+finished job shows its quality table, its normalized-volume histogram and a download link. The
+job's name is markup that would run a script if the page took it as HTML: it must show as text.
+Then a server with a token: the page asks for it, signs in (an HttpOnly cookie), and shows the
+jobs and a job's events, with the token in no URL and not readable by the page's scripts. A
 screenshot of the finished page is kept in OUT_DIR/dashboard.png.
 
 usage: dashboard_browser_test.py SERVER_BINARY PHANTOM_BINARY OUT_DIR
@@ -16,6 +19,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import urllib.parse
 import urllib.request
 
 import websocket
@@ -34,8 +38,17 @@ READ_PAGE = """JSON.stringify({
   quality_rows: document.querySelectorAll('#quality tbody tr').length,
   result_shown: !document.getElementById('result').hidden,
   bars: document.querySelectorAll('#histogram div').length,
-  download: document.getElementById('download').getAttribute('href')
+  download: document.getElementById('download').getAttribute('href'),
+  names: Array.from(document.querySelectorAll('#jobs tbody td:nth-child(2)')).map(td => td.textContent),
+  images: document.querySelectorAll('#jobs img').length,
+  pwned: window.pwned === 1,
+  login_shown: !!document.getElementById('login') && !document.getElementById('login').hidden,
+  url: location.href,
+  cookies: document.cookie
 })"""
+
+# A job name that runs a script wherever it is taken as HTML.
+MARKUP_NAME = '<img src=x onerror="window.pwned=1">'
 
 
 def devtools_page(chromium):
@@ -82,6 +95,50 @@ def count(text):
     return int(text.replace(",", "")) if text.strip() else 0
 
 
+def check_token_sign_in(tools, server_bin, folder, image):
+    """A server with a token: the dashboard signs in without putting the token in a URL."""
+    failures = []
+    token = "s3cret-token"
+    secured_dir = os.path.join(folder, "secured")
+    os.makedirs(secured_dir)
+    server, ports = start_server(server_bin, secured_dir, ["--token", token])
+    base = f"http://127.0.0.1:{ports['http']}"
+    try:
+        request = urllib.request.Request(f"{base}/v1/jobs?delta=6&threads=1&name=secured",
+                                         data=open(image, "rb").read(), method="POST",
+                                         headers={"Authorization": "Bearer " + token})
+        job = json.load(urllib.request.urlopen(request, timeout=60))["job"]["id"]
+        tools.call("Page.navigate", url=base + "/")
+        page = None
+        deadline = time.time() + 60
+        while time.time() < deadline:
+            page = tools.read_page()
+            if page and page["login_shown"]:
+                break
+            time.sleep(0.2)
+        if not page or not page["login_shown"]:
+            failures.append(f"no sign-in form on a server with a token: {page}")
+            return failures
+        tools.call("Runtime.evaluate", expression=(
+            f"document.getElementById('token').value = {json.dumps(token)};"
+            "document.getElementById('login').requestSubmit()"))
+        deadline = time.time() + 120
+        while time.time() < deadline:
+            page = tools.read_page()
+            if page and page["job"] == job and page["state"]:
+                break
+            time.sleep(0.3)
+        print("signed-in page:", page)
+        if not page or page["job"] != job or not page["state"]:
+            failures.append(f"after signing in the job and its events do not show: {page}")
+        elif token in page["url"] or token in page["cookies"] or page["login_shown"]:
+            failures.append(f"the token is in the URL or readable by the page: {page}")
+    finally:
+        server.send_signal(signal.SIGTERM)
+        server.wait(timeout=30)
+    return failures
+
+
 def main():
     server_bin, phantom_bin, out_dir = sys.argv[1:4]
     chromium_bin = shutil.which("chromium")
@@ -107,8 +164,9 @@ def main():
         while tools.read_page() is None and time.time() < deadline:
             time.sleep(0.2)
         # A job long enough to watch (one thread, a fine delta).
-        request = urllib.request.Request(f"{base}/v1/jobs?delta=3&threads=1&name=browser-test",
-                                         data=open(image, "rb").read(), method="POST")
+        request = urllib.request.Request(
+            f"{base}/v1/jobs?delta=3&threads=1&name={urllib.parse.quote(MARKUP_NAME)}",
+            data=open(image, "rb").read(), method="POST")
         job = json.load(urllib.request.urlopen(request, timeout=60))["job"]["id"]
         seen, final = [], None
         deadline = time.time() + 300
@@ -143,10 +201,13 @@ def main():
                 failures.append(f"download link {final['download']}")
             if count(final["pentatopes"]) <= 0:
                 failures.append("no pentatope count")
+            if MARKUP_NAME not in final["names"] or final["images"] or final["pwned"]:
+                failures.append(f"the job's name was taken as markup: {final}")
         shot = tools.call("Page.captureScreenshot", format="png")
         path = os.path.join(out_dir, "dashboard.png")
         open(path, "wb").write(base64.b64decode(shot["data"]))
         print("screenshot:", path)
+        failures += check_token_sign_in(tools, server_bin, folder, image)
     finally:
         if chromium:
             chromium.kill()

@@ -6,14 +6,14 @@ import sys
 import time
 
 
-def start_server(server_bin, folder):
-    """Returns (process, ports) with ports = {"grpc", "metrics", "http"}."""
+def start_server(server_bin, folder, extra=()):
+    """Returns (process, ports) with ports = {"grpc", "metrics", "http"}; `extra`: more flags."""
     port_file = os.path.join(folder, "port")
     log = open(os.path.join(folder, "server.log"), "w")
     process = subprocess.Popen([server_bin, "--listen", "127.0.0.1:0", "--port-file", port_file,
                                 "--data-dir", os.path.join(folder, "data"),
                                 "--metrics-listen", "127.0.0.1:0", "--http-listen", "127.0.0.1:0",
-                                "--threads-per-job", "1"],
+                                "--threads-per-job", "1", *extra],
                                stdout=log, stderr=subprocess.STDOUT)
     deadline = time.monotonic() + 20
     while time.monotonic() < deadline:

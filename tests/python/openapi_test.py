@@ -132,9 +132,12 @@ def main():
         call(doc, base, "/v1/jobs/{id}/events", "GET", "/v1/jobs/nope/events")
         call(doc, base, "/v1/jobs/{id}", "DELETE", f"/v1/jobs/{job}")
         call(doc, base, "/v1/jobs/{id}", "DELETE", f"/v1/jobs/{job}")  # 404 now
+        call(doc, base, "/v1/login", "POST", "/v1/login", b'{"token": "any"}')  # no token: 204
+        call(doc, base, "/v1/login", "POST", "/v1/login", b"not json")  # 400
         check(request(base, "GET", "/v1/nothing")[0] == 404, "an undocumented path is 404")
         # Every documented operation was called above.
-        called = {("/v1/jobs", "get"), ("/v1/jobs", "post"), ("/v1/jobs/{id}", "get"),
+        called = {("/v1/login", "post"), ("/v1/jobs", "get"), ("/v1/jobs", "post"),
+                  ("/v1/jobs/{id}", "get"),
                   ("/v1/jobs/{id}", "delete"), ("/v1/jobs/{id}/cancel", "post"),
                   ("/v1/jobs/{id}/events", "get"), ("/v1/jobs/{id}/mesh", "get"),
                   ("/v1/jobs/{id}/slices/{t}.vtu", "get")}
