@@ -75,12 +75,17 @@ JobManager::JobManager(JobStore& store, ManagerConfig config, JobObserver* obser
     : store_(store), config_(config), observer_(observer), runner_(std::move(runner)) {}
 
 JobManager::~JobManager() {
+  stop();
+}
+
+void JobManager::stop() {
   {
     std::lock_guard lock(mu_);
     stopping_ = true;
   }
   changed_.notify_all();
-  for (auto& t : runners_) t.join();
+  for (auto& t : runners_)
+    if (t.joinable()) t.join();
 }
 
 std::vector<std::string> JobManager::start() {
@@ -403,6 +408,7 @@ bool JobManager::wait(const std::string& id, std::uint64_t after,
       }
       return true;
     }
+    if (stopping_) return true;  // the watch ends at its next check
     if (changed_.wait_until(lock, deadline) == std::cv_status::timeout) return true;
   }
 }
@@ -425,6 +431,7 @@ JobManager::WatchEnd JobManager::watch(const std::string& id, std::uint64_t afte
   }
   std::vector<v1::JobEvent> events;
   while (!cancelled()) {
+    if (stopping_) return WatchEnd::server_stopping;
     events.clear();
     const auto deadline = std::chrono::steady_clock::now() + kWatchPoll;
     if (!wait(id, seen, deadline, &events)) return WatchEnd::job_deleted;

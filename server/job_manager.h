@@ -44,7 +44,12 @@ class JobManager {
   /// `runner` meshes each job (run_job; tests give a stand-in).
   JobManager(JobStore& store, ManagerConfig config, JobObserver* observer = nullptr,
              JobRunner runner = run_job);
-  ~JobManager();  // stops the runners; running jobs stay RUNNING on disk and resume at restart
+  ~JobManager();  // stop()
+
+  /// Takes no more work, at once: no queued job starts, a running one stops at its next check
+  /// and stays RUNNING on disk (it runs again at restart), every watch ends (server_stopping).
+  /// Returns when the runners have ended. Idempotent.
+  void stop();
 
   /// Loads the store: finished jobs are served again, queued and running ones re-queued.
   /// Then starts the runners. Returns messages about records it could not read.
@@ -81,7 +86,7 @@ class JobManager {
 
   /// How a watch ended: the job reached a final state, it was deleted, or the watcher left
   /// (on_event returned false, or `cancelled` true).
-  enum class WatchEnd { job_ended, job_deleted, watcher_left };
+  enum class WatchEnd { job_ended, job_deleted, watcher_left, server_stopping };
   /// Follows a job for every face: with `after` 0, its whole state first (a snapshot event
   /// numbered with its latest event), then each event after it, until the job ends; with
   /// `after` the sequence of the last event a watcher saw, the events after that one (a new

@@ -15,6 +15,7 @@
 #include "job_log.h"
 #include "job_manager.h"
 #include "job_store.h"
+#include "listener_waker.h"
 #include "mesh_service.h"
 #include "metrics.h"
 #include "rest_api.h"
@@ -174,6 +175,15 @@ int main(int argc, char** argv) {
   int signal_number = 0;
   sigwait(&stop_signals, &signal_number);
   spdlog::info("signal {} received: shutting down", signal_number);
-  server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(5));
+  // No job starts from here on; the running one stops at its next check and runs again at the
+  // restart; every watch ends, so the faces close at once.
+  jobs.stop();
+  {
+    ListenerWaker waker({rest ? rest->port() : 0, metrics ? metrics->port() : 0});
+    rest.reset();
+    server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(5));
+    metrics.reset();
+  }
+  spdlog::info("stopped");
   return 0;
 }

@@ -121,6 +121,9 @@ grpc::Status MeshService::WatchJob(grpc::ServerContext* context, const v1::Watch
         return grpc::Status::OK;
       case JobManager::WatchEnd::job_deleted:
         return grpc::Status(grpc::StatusCode::NOT_FOUND, "the job was deleted");
+      case JobManager::WatchEnd::server_stopping:
+        return grpc::Status(grpc::StatusCode::UNAVAILABLE,
+                            "the server is shutting down; watch again once it is back");
       case JobManager::WatchEnd::watcher_left:
         break;
     }

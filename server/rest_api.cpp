@@ -497,6 +497,12 @@ class RestApi::Handler : public CivetHandler {
       chunk("event: error\ndata: " +
             nlohmann::json{{"code", "NOT_FOUND"}, {"message", "the job was deleted"}}.dump() +
             "\n\n");
+    if (end == JobManager::WatchEnd::server_stopping)
+      chunk("event: error\ndata: " +
+            nlohmann::json{{"code", "UNAVAILABLE"},
+                           {"message", "the server is shutting down; reconnect once it is back"}}
+                .dump() +
+            "\n\n");
     if (started && end != JobManager::WatchEnd::watcher_left) mg_send_chunk(c, "", 0);
   }
 
@@ -561,7 +567,7 @@ RestApi::RestApi(JobManager& jobs, const std::string& listen, std::string token,
   // after the timeouts.
   const std::vector<std::string> options = {
       "listening_ports",    listen, "num_threads",           std::to_string(2 * kMaxEventStreams),
-      "enable_keep_alive",  "yes",  "keep_alive_timeout_ms", "5000",
+      "enable_keep_alive",  "yes",  "keep_alive_timeout_ms", "1000",
       "request_timeout_ms", "10000"};
   static const CivetCallbacks callbacks = [] {
     CivetCallbacks c;

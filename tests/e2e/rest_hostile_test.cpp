@@ -294,6 +294,65 @@ TEST(RestHostile, NonsenseIsRefusedOrFailsSayingWhy) {
   }
 }
 
+// 7. Shutdown: an idle server (every face open) exits within a second of SIGTERM (3.4 s
+// before); a busy one starts no queued job after the signal, ends its event streams, exits
+// within 3 s, and has both jobs waiting at the restart.
+TEST(RestHostile, SigtermStopsPromptlyAndStartsNothingNew) {
+  const std::string dir = make_temp_dir("mesh4d-rest-sigterm");
+  {
+    RunningServer idle(dir + "/idle");
+    EXPECT_EQ(idle.process().stop(SIGTERM, std::chrono::milliseconds(1000)), 0)
+        << "not out within 1 s";
+  }
+  std::string slow, queued;
+  {
+    RunningServer server(dir + "/data", {"--running-jobs", "1"});
+    const std::string base = "http://127.0.0.1:" + std::to_string(server.http_port());
+    const std::string sphere = dir + "/sphere.nii.gz";
+    domain::write_nifti(domain::hypersphere_phantom({24, 24, 24, 24}, {1, 1, 1, 1}, 8), sphere);
+    slow = curl(dir, base + "/v1/jobs?delta=1.2&threads=1&vertex_budget=400000",
+                {"--data-binary", "@" + sphere})
+               .json()["job"]["id"];
+    queued =
+        curl(dir, base + "/v1/jobs?delta=3", {"--data-binary", "@" + sphere}).json()["job"]["id"];
+    for (int k = 0;
+         k < 100 && curl(dir, base + "/v1/jobs/" + slow).json()["state"] != "JOB_STATE_RUNNING";
+         ++k)
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    // An event stream open on the queued job must not hold the shutdown up either.
+    RawConnection stream(server.http_port(),
+                         "GET /v1/jobs/" + queued + "/events HTTP/1.1\r\nHost: a\r\n\r\n");
+    EXPECT_EQ(stream.read_some(5000).rfind("HTTP/1.1 200", 0), 0u);
+    // A kept-alive connection (the stream's, once it ended) holds civetweb's worker for up to
+    // the keep-alive timeout (1 s).
+    EXPECT_EQ(server.process().stop(SIGTERM, std::chrono::milliseconds(3000)), 0)
+        << "not out within 3 s";
+  }
+  // The first run's log: the queued job never ran; the running one was interrupted.
+  std::stringstream log;
+  log << std::ifstream(dir + "/data.log").rdbuf();
+  std::size_t queued_ran = 0, interrupted = 0;
+  for (std::string line; std::getline(log, line);) {
+    queued_ran += line.find(queued) != std::string::npos &&
+                  line.find("\"msg\":\"running\"") != std::string::npos;
+    interrupted += line.find(slow) != std::string::npos &&
+                   line.find("interrupted by shutdown") != std::string::npos;
+  }
+  EXPECT_EQ(queued_ran, 0u) << log.str();
+  EXPECT_EQ(interrupted, 1u) << log.str();
+  RunningServer restarted(dir + "/data");
+  auto stub = restarted.stub();
+  for (const auto& id : {slow, queued}) {
+    grpc::ClientContext context;
+    v1::GetJobRequest request;
+    request.set_job_id(id);
+    v1::Job job;
+    ASSERT_TRUE(stub->GetJob(&context, request, &job).ok());
+    EXPECT_TRUE(job.state() == v1::JOB_STATE_QUEUED || job.state() == v1::JOB_STATE_RUNNING)
+        << job.ShortDebugString();
+  }
+}
+
 // 5. Keep-alive: two requests on one connection both get answers (curl reuses it).
 TEST(RestHostile, TwoRequestsOnOneConnection) {
   const std::string dir = make_temp_dir("mesh4d-rest-keepalive");
