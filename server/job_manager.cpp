@@ -24,6 +24,17 @@ namespace {
 using google::protobuf::util::TimeUtil;
 
 constexpr std::size_t kEventLog = 512;  // events kept per job for watchers that fall behind
+// The time to the nanosecond: Debian's protobuf (3.21) takes TimeUtil::GetCurrentTime() from
+// time(), in whole seconds, which summed 15 ms jobs as 0 or 1 s and left jobs created in one
+// second in no order.
+google::protobuf::Timestamp now() {
+  return TimeUtil::NanosecondsToTimestamp(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                              std::chrono::system_clock::now().time_since_epoch())
+                                              .count());
+}
+
+// How far a restarted server moves each job's event numbers past the last one it wrote.
+constexpr std::uint64_t kSequenceGapAtRestart = std::uint64_t{1} << 32;
 constexpr auto kWatchPoll = std::chrono::milliseconds(500);  // watch() asks `cancelled` this often
 
 bool terminal(v1::JobState s) {
@@ -125,6 +136,7 @@ std::vector<std::string> JobManager::start() {
         queue_.push_back(job.id());
       }
       if (!job.request_id().empty()) by_request_id_[job.request_id()] = job.id();
+      e->last_sequence = job.last_event_sequence() + kSequenceGapAtRestart;
       if (observer_) observer_->on_state(job, v1::JOB_STATE_UNSPECIFIED);
       e->job = std::move(job);
       jobs_[e->job.id()] = std::move(e);
@@ -215,7 +227,7 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
   job.set_request_id(spec.request_id());
   *job.mutable_image() = spec.image();
   *job.mutable_params() = stored;
-  *job.mutable_created() = TimeUtil::GetCurrentTime();
+  *job.mutable_created() = now();
   for (auto& w : warnings) job.add_warnings(w);
   try {
     store_.create(job, data);
@@ -255,7 +267,7 @@ v1::Job JobManager::view(const Entry& e) const {
 
 void JobManager::publish(Entry& e, v1::JobEvent event) {
   event.set_sequence(++e.last_sequence);
-  *event.mutable_time() = TimeUtil::GetCurrentTime();
+  *event.mutable_time() = now();
   e.events.push_back(std::move(event));
   if (e.events.size() > kEventLog) e.events.pop_front();
   changed_.notify_all();
@@ -264,8 +276,9 @@ void JobManager::publish(Entry& e, v1::JobEvent event) {
 void JobManager::set_state(Entry& e, v1::JobState state) {
   const v1::JobState previous = e.job.state();
   e.job.set_state(state);
-  if (state == v1::JOB_STATE_RUNNING) *e.job.mutable_started() = TimeUtil::GetCurrentTime();
-  if (terminal(state)) *e.job.mutable_finished() = TimeUtil::GetCurrentTime();
+  if (state == v1::JOB_STATE_RUNNING) *e.job.mutable_started() = now();
+  if (terminal(state)) *e.job.mutable_finished() = now();
+  e.job.set_last_event_sequence(e.last_sequence + 1);  // the state event published below
   try {
     store_.save(e.job);
   } catch (const std::exception& ex) {
@@ -382,7 +395,7 @@ v1::JobEvent JobManager::snapshot(const std::string& id) const {
   const Entry& e = find(id);
   v1::JobEvent event;
   event.set_sequence(e.last_sequence);
-  *event.mutable_time() = TimeUtil::GetCurrentTime();
+  *event.mutable_time() = now();
   *event.mutable_snapshot() = view(e);
   return event;
 }
@@ -399,7 +412,7 @@ bool JobManager::wait(const std::string& id, std::uint64_t after,
       if (e.events.empty() || e.events.front().sequence() > after + 1) {
         v1::JobEvent event;  // the log lost some: start over from a snapshot
         event.set_sequence(e.last_sequence);
-        *event.mutable_time() = TimeUtil::GetCurrentTime();
+        *event.mutable_time() = now();
         *event.mutable_snapshot() = view(e);
         out->push_back(std::move(event));
       } else {
@@ -453,11 +466,11 @@ std::map<v1::JobState, std::size_t> JobManager::count_by_state() const {
 
 void JobManager::sweep_expired() {
   if (config_.retention.count() <= 0) return;
-  const auto now = TimeUtil::GetCurrentTime();
+  const auto time_now = now();
   std::vector<std::string> expired;
   for (const auto& [id, e] : jobs_)
     if (terminal(e->job.state()) &&
-        TimeUtil::DurationToSeconds(now - e->job.finished()) > config_.retention.count())
+        TimeUtil::DurationToSeconds(time_now - e->job.finished()) > config_.retention.count())
       expired.push_back(id);
   for (const auto& id : expired) {
     const Entry& e = *jobs_[id];
