@@ -233,8 +233,9 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
     store_.create(job, data);
   } catch (const std::exception& ex) {
     store_.remove(job.id());
+    log_job(spdlog::level::err, job.id(), "cannot store the job: {}", ex.what());
     throw wire::ServiceError(wire::ErrorCode::internal,
-                             std::string("cannot store the job: ") + ex.what());
+                             "the server cannot store the job: " + without_paths(ex.what()));
   }
   if (observer_) observer_->on_bytes_received(data.size());
   const std::string id = job.id();
@@ -357,6 +358,13 @@ std::string JobManager::result_problem(const v1::Job& job, std::string* mesh) co
   if (wire::sha256(*mesh) != job.result_sha256())
     return "the stored result is corrupt: its SHA-256 is not the one taken when it was written";
   return "";
+}
+
+std::string JobManager::without_paths(std::string message) const {
+  const std::string root = store_.root().string();
+  for (std::size_t at; !root.empty() && (at = message.find(root)) != std::string::npos;)
+    message.replace(at, root.size(), "<data-dir>");
+  return message;
 }
 
 void JobManager::lose_result(Entry& e, const std::string& problem) {
@@ -568,6 +576,8 @@ void JobManager::run(const std::string& id) {
     error = e.what();
   }
   std::lock_guard lock(mu_);
+  log_job(spdlog::level::debug, id, "error in full: {}", error);
+  error = without_paths(error);
   entry->job.set_error(error);
   set_state(*entry, end);
   log_job(spdlog::level::info, id, "{}: {}", v1::JobState_Name(end), error);

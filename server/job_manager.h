@@ -119,6 +119,9 @@ class JobManager {
   void set_state(Entry& e, v1::JobState state);  // with mu_ held: persists, publishes
   // What is wrong with a job's stored result ("" when it is whole); `mesh` receives it.
   std::string result_problem(const v1::Job& job, std::string* mesh) const;
+  // A message for clients: the data directory's path (the server's own) as <data-dir>; the
+  // server's log keeps it whole.
+  std::string without_paths(std::string message) const;
   // A SUCCEEDED job whose result is lost: FAILED, saying why (with mu_ held).
   void lose_result(Entry& e, const std::string& problem);
   v1::Job view(const Entry& e) const;  // with queue_position filled in

@@ -422,6 +422,24 @@ TEST(RestHostile, TimesOrderAndEventNumbersSurviveARestart) {
   EXPECT_GT(after.front(), last_seen) << "an event number seen before the restart came again";
 }
 
+// 8. Error messages name no path on the server: a store that cannot write (its jobs folder
+// replaced by a file) is INTERNAL, with the data directory as <data-dir>.
+TEST(RestHostile, StoreErrorsNameNoServerPath) {
+  const std::string dir = make_temp_dir("mesh4d-rest-paths");
+  RunningServer server(dir + "/data");
+  const std::string base = "http://127.0.0.1:" + std::to_string(server.http_port());
+  const std::string sphere = dir + "/sphere.nii.gz";
+  domain::write_nifti(domain::hypersphere_phantom({16, 16, 16, 16}, {1, 1, 1, 1}, 6), sphere);
+  std::filesystem::remove_all(dir + "/data/jobs");
+  std::ofstream(dir + "/data/jobs") << "not a folder";
+  const Http h = curl(dir, base + "/v1/jobs?delta=3", {"--data-binary", "@" + sphere});
+  EXPECT_EQ(h.status, 500) << h.body;
+  EXPECT_EQ(h.json()["code"], "INTERNAL") << h.body;
+  EXPECT_EQ(h.body.find(dir), std::string::npos) << h.body;
+  EXPECT_NE(h.body.find("<data-dir>"), std::string::npos) << h.body;
+  EXPECT_EQ(curl(dir, base + "/v1/jobs").status, 200) << "still serving";
+}
+
 // 5. Keep-alive: two requests on one connection both get answers (curl reuses it).
 TEST(RestHostile, TwoRequestsOnOneConnection) {
   const std::string dir = make_temp_dir("mesh4d-rest-keepalive");
