@@ -21,6 +21,7 @@
 #include "mesh/mesh_io.h"
 #include "mesh/mesh_slice.h"
 #include "mesh/vtu_writer.h"
+#include "multipart_form.h"
 #include "rest_upload.h"
 #include "wire/digest.h"
 #include "wire/service_error.h"
@@ -340,7 +341,6 @@ class RestApi::Handler : public CivetHandler {
                                    std::to_string(max_body_));
     const char* type = mg_get_header(c, "Content-Type");
     Form form;
-    form.limit = max_body_;
     auto fields = query;
     if (type && std::string(type).rfind("multipart/form-data", 0) == 0) {
       read_form(c, form);
@@ -364,12 +364,8 @@ class RestApi::Handler : public CivetHandler {
   // A submission as parts: "image" (the file), "params" (a JSON object), other parts as query
   // keys (name, request_id, time_scale, ...).
   struct Form {
-    std::uint64_t limit = 0;
     std::string image, params;
     std::map<std::string, std::string> fields;
-    bool too_big = false;
-    std::string file;  // where the image part is stored
-    bool stored = false;
   };
 
   // The request body, up to `limit` bytes (0: the upload limit).
@@ -386,55 +382,19 @@ class RestApi::Handler : public CivetHandler {
   }
 
   void read_form(mg_connection* c, Form& form) const {
-    // The image part goes to a file (civetweb writes it whole or not at all); the small parts
-    // come as values.
-    const std::filesystem::path file =
-        std::filesystem::temp_directory_path() /
-        ("mesh4d-form-" + std::to_string(reinterpret_cast<std::uintptr_t>(&form)) + "-" +
-         std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
-    form.file = file.string();
-    mg_form_data_handler handler{};
-    handler.field_found = [](const char* key, const char*, char* path, std::size_t size,
-                             void* data) {
-      Form& f = *static_cast<Form*>(data);
-      if (key && std::string(key) == "image" && f.file.size() < size) {
-        std::snprintf(path, size, "%s", f.file.c_str());
-        return static_cast<int>(MG_FORM_FIELD_STORAGE_STORE);
+    std::string body;
+    read_body(c, body);
+    const char* type = mg_get_header(c, "Content-Type");
+    for (FormPart& part : parse_multipart(type ? type : "", body)) {
+      if (part.name == "image") {
+        form.image = std::move(part.body);
+        continue;
       }
-      return static_cast<int>(MG_FORM_FIELD_STORAGE_GET);
-    };
-    handler.field_get = [](const char* key, const char* value, std::size_t size, void* data) {
-      Form& f = *static_cast<Form*>(data);
-      const std::string name = key ? key : "";
-      std::string& to = name == "params" ? f.params : f.fields[name];
-      to.append(value ? value : "", size);
-      if (to.size() > (1u << 20)) {
-        f.too_big = true;
-        return static_cast<int>(MG_FORM_FIELD_HANDLE_ABORT);
-      }
-      return static_cast<int>(MG_FORM_FIELD_HANDLE_GET);
-    };
-    handler.field_store = [](const char*, long long size, void* data) {
-      Form& f = *static_cast<Form*>(data);
-      f.stored = true;
-      if (size < 0 || static_cast<std::uint64_t>(size) > f.limit) {
-        f.too_big = true;
-        return static_cast<int>(MG_FORM_FIELD_HANDLE_ABORT);
-      }
-      return static_cast<int>(MG_FORM_FIELD_HANDLE_NEXT);
-    };
-    handler.user_data = &form;
-    const int handled = mg_handle_form_request(c, &handler);
-    if (form.stored) {
-      std::ifstream in(file, std::ios::binary);
-      form.image.assign(std::istreambuf_iterator<char>(in), {});
+      if (part.body.size() > (1u << 20))
+        throw wire::ServiceError(wire::ErrorCode::invalid_argument,
+                                 "the multipart part \"" + part.name + "\" is over 1 MiB");
+      (part.name == "params" ? form.params : form.fields[part.name]) = std::move(part.body);
     }
-    std::error_code ignored;
-    std::filesystem::remove(file, ignored);
-    if (form.too_big) throw too_big();
-    if (handled < 0)
-      throw wire::ServiceError(wire::ErrorCode::invalid_argument,
-                               "the multipart body could not be read");
     if (form.image.empty())
       throw wire::ServiceError(
           wire::ErrorCode::invalid_argument,

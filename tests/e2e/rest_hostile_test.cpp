@@ -26,6 +26,16 @@
 namespace mesh4d::testing {
 namespace {
 
+// A 4D ball of n voxels a side (radius r) written as NIfTI at `path` (.nii or .nii.gz).
+std::string write_ball(const std::string& path, std::size_t n, double r) {
+  domain::write_nifti(domain::hypersphere_phantom({n, n, n, n}, {1, 1, 1, 1}, r), path);
+  return path;
+}
+
+std::string rest_base(const RunningServer& server) {
+  return "http://127.0.0.1:" + std::to_string(server.http_port());
+}
+
 // The server's peak resident memory so far, in MiB (VmHWM).
 long peak_mib(pid_t pid) {
   std::ifstream in("/proc/" + std::to_string(pid) + "/status");
@@ -105,7 +115,7 @@ class RawConnection {
 TEST(RestHostile, GzipBombIsRefusedFromItsHeaderInBoundedMemory) {
   const std::string dir = make_temp_dir("mesh4d-rest-bomb");
   RunningServer server(dir + "/data", {"--max-image-mb", "64"});
-  const std::string base = "http://127.0.0.1:" + std::to_string(server.http_port());
+  const std::string base = rest_base(server);
   const std::string bomb = dir + "/bomb.nii.gz";
   write_zero_nifti_gz(dir, bomb, {512, 512, 256, 4});
   std::ifstream size(bomb, std::ios::binary | std::ios::ate);
@@ -175,7 +185,7 @@ TEST(RestHostile, CorruptResultsAreRefusedAndTheJobSaysWhy) {
                                std::filesystem::file_size(result_file(ids[1])) / 2);
   RunningServer server(dir + "/data");
   auto stub = server.stub();
-  const std::string base = "http://127.0.0.1:" + std::to_string(server.http_port());
+  const std::string base = rest_base(server);
   for (int k : {0, 1}) {
     SCOPED_TRACE(ids[k]);
     grpc::ClientContext context;
@@ -210,8 +220,7 @@ TEST(RestHostile, OpenStreamsAndHalfSentHeadersDoNotStarveOtherCalls) {
   RunningServer server(dir + "/data", {"--running-jobs", "1"});
   const int port = server.http_port();
   const std::string base = "http://127.0.0.1:" + std::to_string(port);
-  const std::string sphere = dir + "/sphere.nii.gz";
-  domain::write_nifti(domain::hypersphere_phantom({24, 24, 24, 24}, {1, 1, 1, 1}, 8), sphere);
+  const std::string sphere = write_ball(dir + "/sphere.nii.gz", 24, 8);
   // A slow job runs; the next one waits behind it, so its streams stay open.
   const std::string slow = curl(dir, base + "/v1/jobs?delta=0.8&threads=1&vertex_budget=4000000",
                                 {"--data-binary", "@" + sphere})
@@ -253,9 +262,8 @@ TEST(RestHostile, OpenStreamsAndHalfSentHeadersDoNotStarveOtherCalls) {
 TEST(RestHostile, NonsenseIsRefusedOrFailsSayingWhy) {
   const std::string dir = make_temp_dir("mesh4d-rest-nonsense");
   RunningServer server(dir + "/data");
-  const std::string base = "http://127.0.0.1:" + std::to_string(server.http_port());
-  const std::string sphere = dir + "/sphere.nii";
-  domain::write_nifti(domain::hypersphere_phantom({16, 16, 16, 16}, {1, 1, 1, 1}, 6), sphere);
+  const std::string base = rest_base(server);
+  const std::string sphere = write_ball(dir + "/sphere.nii", 16, 6);
   std::string bytes;
   {
     std::ifstream in(sphere, std::ios::binary);
@@ -321,9 +329,8 @@ TEST(RestHostile, SigtermStopsPromptlyAndStartsNothingNew) {
   std::string slow, queued;
   {
     RunningServer server(dir + "/data", {"--running-jobs", "1"});
-    const std::string base = "http://127.0.0.1:" + std::to_string(server.http_port());
-    const std::string sphere = dir + "/sphere.nii.gz";
-    domain::write_nifti(domain::hypersphere_phantom({24, 24, 24, 24}, {1, 1, 1, 1}, 8), sphere);
+    const std::string base = rest_base(server);
+    const std::string sphere = write_ball(dir + "/sphere.nii.gz", 24, 8);
     slow = curl(dir, base + "/v1/jobs?delta=1.2&threads=1&vertex_budget=400000",
                 {"--data-binary", "@" + sphere})
                .json()["job"]["id"];
@@ -380,13 +387,12 @@ std::vector<std::uint64_t> event_ids(const Http& h) {
 // across a restart, and event numbers that never repeat after one.
 TEST(RestHostile, TimesOrderAndEventNumbersSurviveARestart) {
   const std::string dir = make_temp_dir("mesh4d-rest-order");
-  const std::string sphere = dir + "/sphere.nii.gz";
-  domain::write_nifti(domain::hypersphere_phantom({16, 16, 16, 16}, {1, 1, 1, 1}, 6), sphere);
+  const std::string sphere = write_ball(dir + "/sphere.nii.gz", 16, 6);
   std::vector<std::string> ids;
   std::uint64_t last_seen = 0;
   {
     RunningServer server(dir + "/data", {"--running-jobs", "1"});
-    const std::string base = "http://127.0.0.1:" + std::to_string(server.http_port());
+    const std::string base = rest_base(server);
     for (int k = 0; k < 4; ++k)  // within a second
       ids.push_back(curl(dir, base + "/v1/jobs?delta=3&name=n" + std::to_string(k),
                          {"--data-binary", "@" + sphere})
@@ -411,7 +417,7 @@ TEST(RestHostile, TimesOrderAndEventNumbersSurviveARestart) {
     ASSERT_EQ(server.process().stop(SIGTERM), 0);
   }
   RunningServer server(dir + "/data");
-  const std::string base = "http://127.0.0.1:" + std::to_string(server.http_port());
+  const std::string base = rest_base(server);
   std::vector<std::string> listed;
   const Http list = curl(dir, base + "/v1/jobs");
   const nlohmann::json page = list.json();
@@ -427,9 +433,8 @@ TEST(RestHostile, TimesOrderAndEventNumbersSurviveARestart) {
 TEST(RestHostile, StoreErrorsNameNoServerPath) {
   const std::string dir = make_temp_dir("mesh4d-rest-paths");
   RunningServer server(dir + "/data");
-  const std::string base = "http://127.0.0.1:" + std::to_string(server.http_port());
-  const std::string sphere = dir + "/sphere.nii.gz";
-  domain::write_nifti(domain::hypersphere_phantom({16, 16, 16, 16}, {1, 1, 1, 1}, 6), sphere);
+  const std::string base = rest_base(server);
+  const std::string sphere = write_ball(dir + "/sphere.nii.gz", 16, 6);
   std::filesystem::remove_all(dir + "/data/jobs");
   std::ofstream(dir + "/data/jobs") << "not a folder";
   const Http h = curl(dir, base + "/v1/jobs?delta=3", {"--data-binary", "@" + sphere});
@@ -438,6 +443,25 @@ TEST(RestHostile, StoreErrorsNameNoServerPath) {
   EXPECT_EQ(h.body.find(dir), std::string::npos) << h.body;
   EXPECT_NE(h.body.find("<data-dir>"), std::string::npos) << h.body;
   EXPECT_EQ(curl(dir, base + "/v1/jobs").status, 200) << "still serving";
+}
+
+// 8. A multipart boundary of one character (RFC 2046 allows 1 to 70; civetweb's parser wanted 4).
+TEST(RestHostile, AOneCharacterMultipartBoundaryIsRead) {
+  const std::string dir = make_temp_dir("mesh4d-rest-boundary");
+  RunningServer server(dir + "/data");
+  const std::string base = rest_base(server);
+  const std::string sphere = write_ball(dir + "/sphere.nii.gz", 16, 6);
+  std::ifstream in(sphere, std::ios::binary);
+  const std::string image((std::istreambuf_iterator<char>(in)), {});
+  std::ofstream(dir + "/form.bin", std::ios::binary)
+      << "--x\r\nContent-Disposition: form-data; name=\"image\"; filename=\"s.nii.gz\"\r\n\r\n"
+      << image << "\r\n--x\r\nContent-Disposition: form-data; name=\"params\"\r\n\r\n"
+      << "{\"delta\": 3}\r\n--x--\r\n";
+  const Http h = curl(dir, base + "/v1/jobs",
+                      {"-H", "Content-Type: multipart/form-data; boundary=x", "--data-binary",
+                       "@" + dir + "/form.bin"});
+  EXPECT_EQ(h.status, 201) << h.body;
+  EXPECT_EQ(h.json()["job"]["params"]["delta"], 3) << h.body;
 }
 
 // 5. Keep-alive: two requests on one connection both get answers (curl reuses it).
