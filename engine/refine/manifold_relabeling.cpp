@@ -237,7 +237,7 @@ std::vector<std::vector<ManifoldRelabeling::Move>> ManifoldRelabeling::options_a
           }
           moves.push_back({star[k], static_cast<Label>(label)});
         }
-        if (!moves.empty() && moves.size() <= kMaxBallMoves) options.push_back(std::move(moves));
+        if (!moves.empty()) options.push_back(std::move(moves));
       }
     }
   } else {
@@ -329,19 +329,12 @@ bool ManifoldRelabeling::repair(const NonManifoldVertex& f, int depth, long* gai
         }
       }
     std::sort(ranked.begin(), ranked.end());
-    const std::vector<Move>* best = nullptr;
     for (const auto& [gain, i] : ranked)
       if (acceptable(options[i])) {
-        best = &options[i];
-        break;
+        *gained = -gain;
+        apply(options[i]);
+        return true;
       }
-    if (best) {
-      *gained = -ranked.front().first;
-      for (const auto& [gain, i] : ranked)
-        if (&options[i] == best) *gained = -gain;
-      apply(*best);
-      return true;
-    }
   }
   // A detour: the move that mends f, then the links it broke mended in turn (one level down);
   // kept when the whole lowers the count, undone otherwise.
