@@ -10,6 +10,7 @@
 #include <random>
 
 #include "domain/image_io.h"
+#include "upload_header_policy.h"
 #include "wire/params_json.h"
 #include "wire/service_error.h"
 #include "wire/upload_codec.h"
@@ -95,7 +96,9 @@ RestUpload decode_rest_upload(const std::string& body,
         wire::ErrorCode::invalid_argument,
         "the request has no body: send an image file (curl --data-binary @FILE)");
   RestUpload upload;
-  const TemporaryFile file(body, file_suffix(body, query));
+  const std::string suffix = file_suffix(body, query);
+  check_upload_header(body, suffix);
+  const TemporaryFile file(body, suffix);
   try {
     const auto image = domain::read_label_image(file.path(), nullptr, max_voxels);
     upload.data = wire::encode_upload(image, upload.spec.mutable_image());

@@ -17,6 +17,8 @@
 #include <mutex>
 #include <sstream>
 
+#include "domain/nrrd_data_check.h"
+
 namespace mesh4d::domain {
 
 // The three formats mesh4d reads, registered explicitly (not through ITK's CMake-generated
@@ -40,15 +42,21 @@ bool is_integer_component(itk::IOComponentEnum c) {
 
 // What mesh4d checks in a NIfTI header before ITK reads it. sizeof_hdr says the version and,
 // read swapped, the byte order: NIfTI-1 (348) has dim as int16[8] at 40, pixdim as float[8] at
-// 76 and vox_offset as a float at 108; NIfTI-2 (540) has dim as int64[8] at 16, pixdim as
-// double[8] at 104 and vox_offset as an int64 at 168.
+// 76, vox_offset as a float at 108, the quaternion and its offset as 6 floats at 256 and the
+// affine rows as 12 floats at 280; NIfTI-2 (540) has dim as int64[8] at 16, pixdim as double[8]
+// at 104, vox_offset as an int64 at 168, then the same 6 + 12 numbers as doubles at 352.
+using NiftiHeader = std::array<unsigned char, 540>;
+
 struct NiftiFacts {
   double voxel_offset = -1;  // -1: not a NIfTI header
   int dims = 0;
   std::array<double, 4> spacing{};  // pixdim[1..4]
+  // ITK builds the direction matrix from pixdim[0], the quaternion and the affine rows, and a
+  // non-finite entry there makes its SVD call abort(): one upload would end the server.
+  bool orientation_finite = true;
 };
 
-NiftiFacts read_nifti_facts(const std::array<unsigned char, 176>& header) {
+NiftiFacts read_nifti_facts(const NiftiHeader& header) {
   const auto read = [&](std::size_t at, std::size_t bytes, bool swap) {
     std::array<unsigned char, 8> b{};
     for (std::size_t k = 0; k < bytes; ++k) b[k] = header[at + (swap ? bytes - 1 - k : k)];
@@ -75,17 +83,30 @@ NiftiFacts read_nifti_facts(const std::array<unsigned char, 176>& header) {
       std::memcpy(&f32, read(80 + 4 * a, 4, swap).data(), 4);
       facts.spacing[a] = f32;
     }
+    for (std::size_t at : {76, 256, 260, 264, 268, 272, 276, 280, 284, 288, 292, 296, 300, 304, 308,
+                           312, 316, 320, 324}) {
+      std::memcpy(&f32, read(at, 4, swap).data(), 4);
+      facts.orientation_finite = facts.orientation_finite && std::isfinite(f32);
+    }
   } else if (sizeof_hdr == 540) {
     std::int64_t i64;
     std::memcpy(&i64, read(168, 8, swap).data(), 8);
     facts.voxel_offset = static_cast<double>(i64);
     std::memcpy(&i64, read(16, 8, swap).data(), 8);
-    facts.dims = static_cast<int>(std::clamp<std::int64_t>(i64, 0, 7));
+    facts.dims = i64 >= 1 && i64 <= 7 ? static_cast<int>(i64) : -1;
     for (int a = 0; a < 4; ++a) {
       double f64;
       std::memcpy(&f64, read(112 + 8 * a, 8, swap).data(), 8);
       facts.spacing[a] = f64;
     }
+    for (std::size_t at = 352; at < 496; at += 8) {
+      double f64;
+      std::memcpy(&f64, read(at, 8, swap).data(), 8);
+      facts.orientation_finite = facts.orientation_finite && std::isfinite(f64);
+    }
+    double pixdim0;
+    std::memcpy(&pixdim0, read(104, 8, swap).data(), 8);
+    facts.orientation_finite = facts.orientation_finite && std::isfinite(pixdim0);
   }
   return facts;
 }
@@ -93,6 +114,10 @@ NiftiFacts read_nifti_facts(const std::array<unsigned char, 176>& header) {
 // ITK reads a voxel size of 0 or NaN as 1, and a negative one as its absolute value: a header
 // that says so is refused, as the gRPC face refuses such a spacing.
 void check_nifti_spacing(const std::string& path, const NiftiFacts& facts) {
+  if (!facts.orientation_finite)
+    throw ImageError(path +
+                     ": the header's orientation (pixdim[0], the quaternion or the affine "
+                     "rows) holds a non-finite number");
   static const char* axis[4] = {"x", "y", "z", "t"};
   for (int a = 0; a < std::min(facts.dims, 4); ++a)
     if (!std::isfinite(facts.spacing[a]) || facts.spacing[a] <= 0) {
@@ -103,6 +128,25 @@ void check_nifti_spacing(const std::string& path, const NiftiFacts& facts) {
     }
 }
 
+// The NIfTI header's numbers that ITK would take in silently or die on, checked before ITK reads
+// the header (its first 540 bytes, inflated no further).
+void check_nifti_header(const std::string& path) {
+  gzFile f = gzopen(path.c_str(), "rb");
+  if (!f) return;  // missing or unreadable: the reader says so
+  NiftiHeader header{};
+  const int n = gzread(f, header.data(), static_cast<unsigned>(header.size()));
+  gzclose_r(f);
+  if (n <= 0) return;
+  const NiftiFacts facts = read_nifti_facts(header);
+  // ITK's NIfTI library takes a header by its magic alone and its byte order from dim[0]; the
+  // checks here read it by sizeof_hdr. A file that ITK's NIfTI reader is given must satisfy both.
+  if (facts.voxel_offset < 0 || facts.dims < 1 || facts.dims > 7)
+    throw ImageError(path +
+                     ": not a NIfTI header: sizeof_hdr (348 or 540) and dim[0] (1 to 7) "
+                     "do not agree on a version and byte order");
+  check_nifti_spacing(path, facts);
+}
+
 // ITK's NIfTI reader takes a file that ends early, compressed or not, for a whole one (the
 // missing voxels read as zeros): the stream (zlib reads plain files too) must hold the header's
 // voxel offset plus every voxel. It is inflated only that far: a small file can inflate to
@@ -111,7 +155,7 @@ void check_nifti_complete(const std::string& path, std::uint64_t voxel_bytes) {
   gzFile f = gzopen(path.c_str(), "rb");
   if (!f) return;  // missing or unreadable: the reader says so
   std::vector<char> buffer(1 << 16);
-  std::array<unsigned char, 176> header{};
+  NiftiHeader header{};
   std::uint64_t total = 0;
   double needed = -1;  // once the header is in: its voxel offset plus the voxels
   int n = 0;
@@ -123,7 +167,6 @@ void check_nifti_complete(const std::string& path, std::uint64_t voxel_bytes) {
     if (needed < 0 && total >= header.size()) {
       const NiftiFacts facts = read_nifti_facts(header);
       if (facts.voxel_offset < 0) break;  // not a NIfTI header: ITK will say what it is
-      check_nifti_spacing(path, facts);
       needed = facts.voxel_offset + double(voxel_bytes);
     }
   }
@@ -153,16 +196,17 @@ itk::ImageIOBase::Pointer open_header(const std::string& path, unsigned expected
     throw ImageError(path +
                      ": cannot read: missing, unreadable, or not a NIfTI, MetaImage or "
                      "NRRD file");
+  const auto ends_with = [&](const char* suffix) {
+    const std::string x = suffix;
+    return path.size() > x.size() && path.compare(path.size() - x.size(), x.size(), x) == 0;
+  };
+  if (ends_with(".nii") || ends_with(".nii.gz")) check_nifti_header(path);
   try {
     io->SetFileName(path);
     io->ReadImageInformation();
   } catch (const itk::ExceptionObject& e) {
     throw ImageError(path + ": cannot read the header: " + e.GetDescription());
   }
-  const auto ends_with = [&](const char* suffix) {
-    const std::string x = suffix;
-    return path.size() > x.size() && path.compare(path.size() - x.size(), x.size(), x) == 0;
-  };
   // The size first, from the header alone: nothing is inflated or allocated for an image that
   // is over the limit, or whose dimensions overflow.
   std::uint64_t voxels = 1;
@@ -178,6 +222,7 @@ itk::ImageIOBase::Pointer open_header(const std::string& path, unsigned expected
                         " voxels; at most " + std::to_string(max_voxels) + " are accepted");
   if (ends_with(".nii") || ends_with(".nii.gz"))
     check_nifti_complete(path, io->GetImageSizeInBytes());
+  if (ends_with(".nrrd")) check_nrrd_data_complete(path, io->GetImageSizeInBytes());
   const unsigned n = io->GetNumberOfDimensions();
   if (n < expected_dims_min || n > expected_dims_max) {
     std::ostringstream s;

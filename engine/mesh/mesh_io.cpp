@@ -2,6 +2,7 @@
 
 #include <openssl/evp.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -59,7 +60,13 @@ struct Reader {
     std::memcpy(&v, &bits, 8);
     return v;
   }
-  void pad8() { at = (at + 7) / 8 * 8; }
+  // Padding and reserved bytes are zero: a reader that skipped them would accept files that a
+  // writer never makes, and a later format could not give them a meaning.
+  void zeros_until(std::size_t end, const char* what) {
+    for (; at < end; ++at)
+      if (data[at] != 0) throw MeshFormatError(std::string("non-zero ") + what + " in .m4d");
+  }
+  void pad8() { zeros_until((at + 7) / 8 * 8, "padding"); }
 };
 
 std::size_t padded(std::size_t n) {
@@ -88,6 +95,9 @@ std::vector<std::uint8_t> encode_m4d(const Mesh4& mesh) {
                     nb = mesh.boundary.size();
   if (mesh.vertex_kinds.size() != nv) throw std::invalid_argument("one vertex kind per vertex");
   if (mesh.labels.size() != np) throw std::invalid_argument("one label per pentatope");
+  for (const Point4& p : mesh.vertices)
+    for (double c : p)
+      if (!std::isfinite(c)) throw std::invalid_argument("non-finite vertex coordinate");
   for (std::size_t i = 0; i < np; ++i) {
     for (std::uint32_t v : mesh.pentatopes[i])
       if (v >= nv) throw std::invalid_argument("pentatope vertex id out of range");
@@ -141,7 +151,11 @@ Mesh4 decode_m4d(const std::uint8_t* data, std::size_t size) {
       << kM4dVersion << ")";
     throw MeshFormatError(s.str());
   }
-  r.u32();  // flags
+  if (const std::uint32_t flags = r.u32(); flags != 0) {
+    std::ostringstream s;
+    s << ".m4d flags 0x" << std::hex << flags << " are not known to this reader";
+    throw MeshFormatError(s.str());
+  }
   const std::uint64_t nv = r.u64(), np = r.u64(), nb = r.u64();
   // The section sizes must add up exactly before anything is allocated from them.
   const double expected = double(kHeaderBytes) + double(padded(nv * 33)) + double(padded(np * 20)) +
@@ -154,10 +168,12 @@ Mesh4 decode_m4d(const std::uint8_t* data, std::size_t size) {
     throw MeshFormatError(".m4d checksum mismatch: the mesh is corrupted");
 
   Mesh4 mesh;
-  r.at = kHeaderBytes;
+  r.zeros_until(kHeaderBytes, "reserved header bytes");
   mesh.vertices.resize(nv);
   for (auto& p : mesh.vertices)
-    for (double& c : p) c = r.f64();
+    for (double& c : p)
+      if (!std::isfinite(c = r.f64()))
+        throw MeshFormatError("non-finite vertex coordinate in .m4d");
   mesh.vertex_kinds.resize(nv);
   for (auto& k : mesh.vertex_kinds) {
     const std::uint8_t v = r.u8();
@@ -173,7 +189,8 @@ Mesh4 decode_m4d(const std::uint8_t* data, std::size_t size) {
     }
   r.pad8();
   mesh.labels.resize(np);
-  for (auto& l : mesh.labels) l = r.u16();
+  for (auto& l : mesh.labels)
+    if ((l = r.u16()) == 0) throw MeshFormatError("pentatope with label 0 (background) in .m4d");
   r.pad8();
   mesh.boundary.resize(nb);
   for (auto& b : mesh.boundary) {

@@ -82,5 +82,45 @@ TEST(RestUpload, RefusesEachMistakeNamingIt) {
   EXPECT_NE(refusal(nifti_body(), {}, "[1]").find("JSON object"), std::string::npos);
 }
 
+// An uploaded header that names a data file elsewhere would make the server read its own disk
+// (and hand back a mesh of it): only files that carry their voxels are taken.
+TEST(RestUpload, RefusesHeadersThatNameAnotherFile) {
+  const std::string dir = mesh4d::testing::make_temp_dir("mesh4d-rest-detached");
+  const std::string raw = dir + "/secret.raw";
+  {
+    std::ofstream out(raw, std::ios::binary);
+    for (int i = 0; i < 6 * 6 * 6 * 2; ++i) out.put(static_cast<char>(i % 7 == 0));
+  }
+  const std::string mha =
+      "ObjectType = Image\nNDims = 4\nDimSize = 6 6 6 2\n"
+      "ElementType = MET_UCHAR\nElementDataFile = " +
+      raw + "\n";
+  EXPECT_NE(refusal(mha, {}).find("ElementDataFile"), std::string::npos);
+  EXPECT_NE(refusal(mha, {{"format", "mhd"}}).find("ElementDataFile"), std::string::npos);
+  for (const char* field : {"data file", "datafile"}) {
+    const std::string nrrd = std::string(
+                                 "NRRD0004\ntype: uint8\ndimension: 4\nsizes: 6 6 6 2\n"
+                                 "encoding: raw\n") +
+                             field + ": " + raw + "\n\n";
+    EXPECT_NE(refusal(nrrd, {}).find("data file"), std::string::npos) << field;
+    EXPECT_NE(refusal(nrrd, {{"format", "nhdr"}}).find("data file"), std::string::npos) << field;
+  }
+}
+
+// ITK's NRRD reader leaks when loading fails: what cannot be vouched for before it is refused,
+// and data that end early are found before it reads them.
+TEST(RestUpload, RefusesNrrdHeadersThatCannotBeCheckedFirst) {
+  const std::string head = "NRRD0004\ntype: uint8\ndimension: 4\nsizes: 6 6 6 2\n";
+  EXPECT_NE(refusal(head + "encoding: ascii\n\n0 1 0", {}).find("raw or gzip"), std::string::npos);
+  EXPECT_NE(refusal(head + "encoding: raw\n", {}).find("no empty line"), std::string::npos);
+  EXPECT_NE(refusal(head + std::string("encoding: raw\n\0\0\n\n", 20), {}).find("plain text"),
+            std::string::npos);
+  EXPECT_NE(refusal(head + "encoding: raw\nbyte skip: 4\n\n", {}).find("skips"), std::string::npos);
+  const std::string short_data = head + "encoding: raw\n\n" + std::string(431, '\1');
+  EXPECT_NE(refusal(short_data, {}).find("end early: 431 bytes of the header's 432"),
+            std::string::npos);
+  EXPECT_NO_THROW(decode_rest_upload(short_data + '\1', {}));
+}
+
 }  // namespace
 }  // namespace mesh4d::server
