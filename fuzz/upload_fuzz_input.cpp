@@ -1,3 +1,5 @@
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -21,9 +23,11 @@ constexpr std::uint64_t kMaxVoxels = 1 << 15;
   std::abort();
 }
 
-// Errors go to clients: they must never show the server's temporary files.
+// Errors go to clients: they must never show the server's temporary files. (An input may hold
+// the files' prefix itself, which errors may echo; the process id after it is the server's.)
 void check_message(const wire::ServiceError& e) {
-  if (std::string_view(e.what()).find("mesh4d-upload-") != std::string_view::npos)
+  static const std::string own = "mesh4d-upload-" + std::to_string(::getpid()) + "-";
+  if (std::string_view(e.what()).find(own) != std::string_view::npos)
     finding(std::string("an error shows the server's temporary file: ") + e.what());
 }
 

@@ -4,6 +4,7 @@
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
+#include <malloc.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -74,6 +75,11 @@ std::shared_ptr<grpc::ServerCredentials> credentials(const mesh4d::server::Serve
 
 int main(int argc, char** argv) {
   using namespace mesh4d::server;
+  // Jobs allocate and free large arrays (triangulation blocks, uploads, meshes). glibc raises its
+  // mmap threshold each time such an array is freed, so that later ones come from the heap, where
+  // the long-lived job records between them keep freed memory from going back. A fixed
+  // threshold keeps every large array in its own mapping, returned when freed.
+  ::mallopt(M_MMAP_THRESHOLD, 256 * 1024);
   ServerOptions options;
   configure_logging(LogFormat::json);
   CLI::App app{"mesh4d-server: meshes 4D label images into pentatope meshes, over gRPC"};

@@ -2,6 +2,7 @@
 
 #include <zlib.h>
 
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -12,6 +13,11 @@
 
 namespace mesh4d::domain {
 namespace {
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
 
 // A NRRD header is text up to the first empty line; the fields that place the data.
 struct NrrdLayout {
@@ -39,9 +45,11 @@ NrrdLayout read_layout(const std::string& path) {
     }
     if (line[0] == '#') continue;
     if (const std::size_t colon = line.find(':'); colon != std::string::npos) {
-      std::string value = line.substr(colon + 1);
+      // NrrdIO reads field names and encodings regardless of case.
+      std::string value = lower(line.substr(colon + 1));
       value.erase(0, value.find_first_not_of(" \t"));
-      layout.fields[line.substr(0, colon)] = value;
+      value.erase(value.find_last_not_of(" \t") + 1);
+      layout.fields[lower(line.substr(0, colon))] = value;
     }
   }
   return layout;

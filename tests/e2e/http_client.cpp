@@ -1,6 +1,7 @@
 #include "http_client.h"
 
 #include <atomic>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -24,6 +25,9 @@ Http curl(const std::string& dir, const std::string& url, std::vector<std::strin
   bs << bin.rdbuf();
   h.headers = hs.str();
   h.body = bs.str();
+  // Long runs (the soak test) make thousands of calls: nothing is kept on disk.
+  std::filesystem::remove(headers);
+  std::filesystem::remove(body);
   if (r.exit_code == 0 && h.headers.rfind("HTTP/1.1 ", 0) == 0)
     h.status = std::stoi(h.headers.substr(9, 3));
   return h;
