@@ -289,14 +289,26 @@ void JobManager::set_state(Entry& e, v1::JobState state) {
   v1::JobEvent event;
   event.set_state(state);
   publish(e, std::move(event));
-  if (terminal(state)) {
-    // An ended job's progress is history: a watcher that falls behind from here gets the
-    // snapshot, which holds it all. Only the final statistics and the state stay in the log, so
-    // that a server that keeps thousands of ended jobs keeps little for each.
-    while (e.events.size() > 2) e.events.pop_front();
-    e.events.shrink_to_fit();
-  }
+  if (terminal(state)) ended_logs_.emplace_back(std::chrono::steady_clock::now(), e.job.id());
+  trim_ended_logs();
   if (observer_) observer_->on_state(e.job, previous);
+}
+
+// An ended job's progress is history: a watcher that falls behind after a while gets the
+// snapshot, which holds it all. Only the final statistics and the state stay in the log, so that
+// a server that keeps thousands of ended jobs keeps little for each; watchers that are reading
+// as the job ends have kEndedLogGrace to finish.
+void JobManager::trim_ended_logs() {
+  constexpr auto kEndedLogGrace = std::chrono::seconds(10);
+  const auto now = std::chrono::steady_clock::now();
+  while (!ended_logs_.empty() && now - ended_logs_.front().first > kEndedLogGrace) {
+    if (const auto it = jobs_.find(ended_logs_.front().second); it != jobs_.end()) {
+      auto& events = it->second->events;
+      while (events.size() > 2) events.pop_front();
+      events.shrink_to_fit();
+    }
+    ended_logs_.pop_front();
+  }
 }
 
 v1::Job JobManager::get(const std::string& id) const {
@@ -504,6 +516,7 @@ void JobManager::runner_loop() {
     if (queue_.empty()) {
       changed_.wait_for(lock, std::chrono::seconds(30));
       sweep_expired();
+      trim_ended_logs();
       continue;
     }
     const std::string id = queue_.front();

@@ -117,6 +117,7 @@ class JobManager {
   Entry& find(const std::string& id) const;      // throws not_found; with mu_ held
   void publish(Entry& e, v1::JobEvent event);    // with mu_ held
   void set_state(Entry& e, v1::JobState state);  // with mu_ held: persists, publishes
+  void trim_ended_logs();                        // with mu_ held
   // What is wrong with a job's stored result ("" when it is whole); `mesh` receives it.
   std::string result_problem(const v1::Job& job, std::string* mesh) const;
   // A message for clients: the data directory's path (the server's own) as <data-dir>; the
@@ -138,6 +139,9 @@ class JobManager {
   std::map<std::string, std::unique_ptr<Entry>> jobs_;
   std::map<std::string, std::string> by_request_id_;
   std::deque<std::string> queue_;
+  // Ended jobs whose event log is still whole, oldest first: trimmed once watchers have had
+  // time to read it (trim_ended_logs).
+  std::deque<std::pair<std::chrono::steady_clock::time_point, std::string>> ended_logs_;
   std::atomic<bool> stopping_{false};
   std::vector<std::thread> runners_;
 };
