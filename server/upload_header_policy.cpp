@@ -76,11 +76,14 @@ void check_meta_image(std::string_view body) {
   const std::size_t line_start =
       body.rfind('\n', key) == std::string_view::npos ? 0 : body.rfind('\n', key) + 1;
   const std::size_t line_end = std::min(body.find('\n', key), body.size());
-  const std::string line = lower(trimmed(body.substr(line_start, line_end - line_start)));
+  const std::string_view line = trimmed(body.substr(line_start, line_end - line_start));
   const std::size_t separator = line.find_first_of("=:");
-  const bool local = separator != std::string::npos &&
-                     trimmed(std::string_view(line).substr(0, separator)) == "elementdatafile" &&
-                     trimmed(std::string_view(line).substr(separator + 1)) == "local";
+  // MetaIO takes the value's case as it is: "lOCAL" is a file name to it.
+  const std::string_view value =
+      separator == std::string_view::npos ? "" : trimmed(line.substr(separator + 1));
+  const bool local = separator != std::string_view::npos &&
+                     lower(trimmed(line.substr(0, separator))) == "elementdatafile" &&
+                     (value == "LOCAL" || value == "Local" || value == "local");
   if (!plain_text(body.substr(0, line_end))) refuse_header("MetaImage", "is not plain text");
   if (!local) refuse("the MetaImage header's ElementDataFile is not LOCAL");
 }
