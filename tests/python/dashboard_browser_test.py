@@ -2,7 +2,8 @@
 """The dashboard in a real browser: Debian's headless Chromium loads / from the real
 mesh4d-server while a job runs; through the DevTools protocol (python3-websocket) the test reads
 the page's DOM every half second and checks that the live progress numbers rise, and that the
-finished job shows its quality table, its normalized-volume histogram and a download link. The
+finished job shows its quality table, its fidelity certificate (each label's row as the REST face
+gives it, defects marked), its normalized-volume histogram and a download link. The
 job's name is markup that would run a script if the page took it as HTML: it must show as text.
 Then a server with a token: the page asks for it, signs in (an HttpOnly cookie), and shows the
 jobs and a job's events, with the token in no URL and not readable by the page's scripts. A
@@ -36,6 +37,9 @@ READ_PAGE = """JSON.stringify({
   vertices: document.getElementById('vertices').textContent,
   pentatopes: document.getElementById('pentatopes').textContent,
   quality_rows: document.querySelectorAll('#quality tbody tr').length,
+  certificate: Array.from(document.querySelectorAll('#certificate tbody tr')).map(
+      tr => Array.from(tr.children).map(td => td.textContent)),
+  defects: document.querySelectorAll('#certificate td.defect').length,
   result_shown: !document.getElementById('result').hidden,
   bars: document.querySelectorAll('#histogram div').length,
   download: document.getElementById('download').getAttribute('href'),
@@ -139,6 +143,34 @@ def check_token_sign_in(tools, server_bin, folder, image):
     return failures
 
 
+def check_certificate(page, base, job):
+    """The certificate table shows, per label, what the REST face says of the job."""
+    stats = json.load(urllib.request.urlopen(f"{base}/v1/jobs/{job}", timeout=30))["stats"]
+    labels = stats.get("certificate", [])
+    rows = page["certificate"]
+    print("certificate rows:", rows)
+    if not labels or len(rows) != len(labels):
+        return [f"the certificate table has {len(rows)} rows for {len(labels)} labels"]
+    failures = []
+    defects = 0
+    for row, c in zip(rows, labels):
+        n = {k: int(c.get(k, 0)) for k in ("label", "mesh_pieces", "image_pieces",
+                                          "touching_pieces", "non_manifold_vertices",
+                                          "non_manifold_edges", "non_manifold_triangles")}
+        wanted = [str(n["label"]), f"{n['mesh_pieces']:,} / {n['image_pieces']:,}",
+                  f"{n['touching_pieces']:,}",
+                  f"{n['non_manifold_vertices']:,} / {n['non_manifold_edges']:,} / "
+                  f"{n['non_manifold_triangles']:,}",
+                  f"{c['volume'] / c['voxel_volume']:.4f}"]
+        if row[:5] != wanted:
+            failures.append(f"certificate row {row} is not the job's {wanted}")
+        defects += (n["mesh_pieces"] != n["image_pieces"]) + (n["touching_pieces"] > 0) + (
+            n["non_manifold_vertices"] + n["non_manifold_edges"] + n["non_manifold_triangles"] > 0)
+    if page["defects"] != defects:
+        failures.append(f"{page['defects']} cells marked as defects, the job has {defects}")
+    return failures
+
+
 def main():
     server_bin, phantom_bin, out_dir = sys.argv[1:4]
     chromium_bin = shutil.which("chromium")
@@ -201,6 +233,7 @@ def main():
                 failures.append(f"download link {final['download']}")
             if count(final["pentatopes"]) <= 0:
                 failures.append("no pentatope count")
+            failures += check_certificate(final, base, job)
             if MARKUP_NAME not in final["names"] or final["images"] or final["pwned"]:
                 failures.append(f"the job's name was taken as markup: {final}")
         shot = tools.call("Page.captureScreenshot", format="png")
