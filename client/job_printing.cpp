@@ -67,6 +67,12 @@ void print_stats(std::ostream& out, const v1::MeshStats& s) {
         (unsigned long long)c.non_manifold_edges(), (unsigned long long)c.non_manifold_triangles(),
         c.volume(), c.voxel_volume(), 100 * c.worst_frame_volume_error(), c.worst_frame_time());
     out << line;
+    std::snprintf(line, sizeof line,
+                  "    boundary distance, mesh to image: max %.3g, mean %.3g; image to mesh: max "
+                  "%.3g, mean %.3g (%llu samples a side)\n",
+                  c.mesh_to_image_max(), c.mesh_to_image_mean(), c.image_to_mesh_max(),
+                  c.image_to_mesh_mean(), (unsigned long long)c.distance_samples());
+    out << line;
   }
 }
 

@@ -94,6 +94,11 @@ void add_certificate(const refine::FidelityCertificate& c, v1::MeshStats* stats)
     out->set_voxel_volume(l.voxel_volume);
     out->set_worst_frame_volume_error(l.worst_frame_error);
     out->set_worst_frame_time(l.worst_frame_time);
+    out->set_distance_samples(l.distance_samples);
+    out->set_mesh_to_image_max(l.mesh_to_image_max);
+    out->set_mesh_to_image_mean(l.mesh_to_image_mean);
+    out->set_image_to_mesh_max(l.image_to_mesh_max);
+    out->set_image_to_mesh_mean(l.image_to_mesh_mean);
   }
 }
 

@@ -1,5 +1,6 @@
 #include "refine/fidelity_certificate.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -7,6 +8,7 @@
 #include "domain/label_census.h"
 #include "mesh/mesh_slice.h"
 #include "mesh/topology_certificate.h"
+#include "refine/two_sided_distance.h"
 
 namespace mesh4d::refine {
 
@@ -66,6 +68,15 @@ FidelityCertificate certify(const mesh::Mesh4& mesh, const domain::LabelImage4& 
       if (std::abs(error) > std::abs(l.worst_frame_error))
         l.worst_frame_error = error, l.worst_frame_time = t;
     }
+  }
+  for (const TwoSidedDistance& d : two_sided_distances(mesh, image)) {
+    LabelFidelity& l = by_label[d.label];
+    l.label = d.label;
+    l.distance_samples = std::max(d.mesh_to_image.samples, d.image_to_mesh.samples);
+    l.mesh_to_image_max = d.mesh_to_image.max;
+    l.mesh_to_image_mean = d.mesh_to_image.mean;
+    l.image_to_mesh_max = d.image_to_mesh.max;
+    l.image_to_mesh_mean = d.image_to_mesh.mean;
   }
   FidelityCertificate certificate;
   for (const auto& [label, l] : by_label) certificate.labels.push_back(l);

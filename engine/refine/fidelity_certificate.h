@@ -27,6 +27,11 @@ struct LabelFidelity {
   // frame's time against the frame's voxel volume, the largest in magnitude, and that time.
   double worst_frame_error = 0;
   double worst_frame_time = 0;
+  // The two-sided distance between the region's boundary in the mesh and in the image
+  // (refine/two_sided_distance.h), sampled; physical units.
+  std::size_t distance_samples = 0;  // per side, at most
+  double mesh_to_image_max = 0, mesh_to_image_mean = 0;
+  double image_to_mesh_max = 0, image_to_mesh_mean = 0;
 };
 
 struct FidelityCertificate {

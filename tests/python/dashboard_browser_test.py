@@ -162,8 +162,12 @@ def check_certificate(page, base, job):
                   f"{n['non_manifold_vertices']:,} / {n['non_manifold_edges']:,} / "
                   f"{n['non_manifold_triangles']:,}",
                   f"{c['volume'] / c['voxel_volume']:.4f}"]
-        if row[:5] != wanted:
-            failures.append(f"certificate row {row} is not the job's {wanted}")
+        distance = (f"{c.get('mesh_to_image_max', 0):.3f} ({c.get('mesh_to_image_mean', 0):.3f}), "
+                    f"{c.get('image_to_mesh_max', 0):.3f} ({c.get('image_to_mesh_mean', 0):.3f})")
+        if int(c.get("distance_samples", 0)) == 0:
+            failures.append(f"label {n['label']}: no boundary distance measured")
+        if row[:5] != wanted or row[6:7] != [distance]:
+            failures.append(f"certificate row {row} is not the job's {wanted}, {distance}")
         defects += (n["mesh_pieces"] != n["image_pieces"]) + (n["touching_pieces"] > 0) + (
             n["non_manifold_vertices"] + n["non_manifold_edges"] + n["non_manifold_triangles"] > 0)
     if page["defects"] != defects:

@@ -62,5 +62,28 @@ TEST(FidelityCertificate, EachDefectSentenceSaysWhatItsCountsSay) {
   for (const auto& d : defects) std::printf("%s\n", d.c_str());
 }
 
+// Both sides of the distance: within about Δ for the refined hypersphere, and a mesh moved by
+// 3 units along x is at least about 3 away on both sides (minus the sampling's reach).
+TEST(FidelityCertificate, TheTwoSidedDistanceSeesAMeshMovedOffItsImage) {
+  Meshed m = meshed(domain::hypersphere_phantom({24, 24, 24, 24}, {1, 1, 1, 1}, 9), 2);
+  const LabelFidelity near = certify(m.mesh, m.image).labels.at(0);
+  std::printf(
+      "hypersphere: mesh to image max %.3f mean %.3f; image to mesh max %.3f mean %.3f "
+      "(%zu samples)\n",
+      near.mesh_to_image_max, near.mesh_to_image_mean, near.image_to_mesh_max,
+      near.image_to_mesh_mean, near.distance_samples);
+  EXPECT_GE(near.distance_samples, 500u);
+  EXPECT_LT(near.mesh_to_image_max, 2.0);
+  EXPECT_LT(near.image_to_mesh_max, 2.0);
+  EXPECT_GT(near.image_to_mesh_mean, 0.0) << "voxel faces are a staircase, the mesh is not";
+  for (auto& v : m.mesh.vertices) v[0] += 3;
+  const LabelFidelity moved = certify(m.mesh, m.image).labels.at(0);
+  std::printf("moved by 3: mesh to image max %.3f; image to mesh max %.3f\n",
+              moved.mesh_to_image_max, moved.image_to_mesh_max);
+  EXPECT_GT(moved.mesh_to_image_max, 2.5);
+  EXPECT_GT(moved.image_to_mesh_max, 2.5);
+  EXPECT_GT(moved.image_to_mesh_mean, near.image_to_mesh_mean + 0.5);
+}
+
 }  // namespace
 }  // namespace mesh4d::refine
