@@ -57,6 +57,7 @@ struct Flat {
   double volume_ratio;       // the mesh's 4-volume over the voxels', all labels
   double worst_frame_error;  // of any label's section at a frame against its voxels
   double certificate_seconds;
+  double mesh_to_image_max, image_to_mesh_max;  // the two-sided distance, largest over labels
   double shortest, rho_max, rho_mean, rho_std, tau_min, tau_mean, tau_std, seconds, peak_mb,
       repair_seconds;
   bool ok;
@@ -80,6 +81,8 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
              pinched,
              r.relabeled,
              mesh4d::bench::mesh_fingerprint(r.mesh),
+             0,
+             0,
              0,
              0,
              0,
@@ -118,6 +121,8 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
       out.nm_triangles += l.non_manifold_triangles;
       if (std::abs(l.worst_frame_error) > std::abs(out.worst_frame_error))
         out.worst_frame_error = l.worst_frame_error;
+      out.mesh_to_image_max = std::max(out.mesh_to_image_max, l.mesh_to_image_max);
+      out.image_to_mesh_max = std::max(out.image_to_mesh_max, l.image_to_mesh_max);
     }
     out.volume_ratio = voxel_volume > 0 ? mesh_volume / voxel_volume : 0;
     return out;
@@ -160,7 +165,7 @@ bool mesh_row(const std::string& name, const domain::LabelImage4& image, double 
       "| %s | %s | %g | %llu | %llu | %llu | %.2f | %.2f / %.2f / %.2f | %.4f / %.2f / %.2f | "
       "%.2f | %.0f | %llu | %.0f | %llu | %llu | %llu | %.2f | %llu / %llu / %llu | %llu / %llu / "
       "%llu | "
-      "%.4f | %+.3f | %.2f | "
+      "%.4f | %+.3f | %.2f / %.2f | %.2f | "
       "%016llx |\n",
       name.c_str(), order == refine::RuleOrder::r3_first ? "R3 first" : "paper", delta,
       (unsigned long long)f.pentatopes, (unsigned long long)f.boundary,
@@ -171,7 +176,8 @@ bool mesh_row(const std::string& name, const domain::LabelImage4& image, double 
       (unsigned long long)f.touching, (unsigned long long)f.image_pieces,
       (unsigned long long)f.nm_vertices, (unsigned long long)f.nm_edges,
       (unsigned long long)f.nm_triangles, f.volume_ratio, f.worst_frame_error,
-      f.certificate_seconds, (unsigned long long)f.fingerprint);
+      f.mesh_to_image_max, f.image_to_mesh_max, f.certificate_seconds,
+      (unsigned long long)f.fingerprint);
   std::fflush(stdout);
   return f.off_surface == 0 && f.pinched == 0 && f.rho_max <= params.radius_edge_bound &&
          f.tau_min >= params.sliver_bound;
@@ -242,9 +248,10 @@ int main(int argc, char** argv) {
       "pentatopes/s | insertions | peak MB | boundary vertex uses off ∂Ω | pinched triangles "
       "| relabeled pentatopes | of the time, pinch repair s | mesh pieces / touching another / "
       "image pieces (all labels) | non-manifold vertices / edges / triangles | 4-volume / voxels "
-      "| worst frame volume error | certificate s | mesh fingerprint "
+      "| worst frame volume error | boundary distance max, mesh → image / image → mesh | "
+      "certificate s | mesh fingerprint "
       "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
-      "---|\n");
+      "---|---|\n");
   const auto sphere = domain::hypersphere_phantom({32, 32, 32, 32}, {1, 1, 1, 1}, 12);
   row("hypersphere r=12", sphere, 2, refine::RuleOrder::r3_first);
   row("hypersphere r=12", sphere, 2, refine::RuleOrder::paper);

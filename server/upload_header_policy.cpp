@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
+#include <map>
 #include <string_view>
 
 #include "wire/service_error.h"
@@ -68,24 +70,71 @@ void check_nrrd(std::string_view body) {
     refuse_header("NRRD", "gives an encoding other than raw or gzip");
 }
 
-// A MetaImage header ends with its ElementDataFile field; LOCAL means the voxels follow. It must
-// be plain text up to a line that says exactly that.
+// A MetaImage header ends with its ElementDataFile field; LOCAL means the voxels follow. MetaIO
+// parses malformed headers past their end (a misspelt key sent it reading beyond its buffer), so
+// every line before the voxels must be a field it knows, spelt as it spells it, with a value of
+// the kind that field takes.
 void check_meta_image(std::string_view body) {
-  const std::size_t key = lower(body.substr(0, 1 << 16)).find("elementdatafile");
-  if (key == std::string::npos) refuse("the MetaImage header has no ElementDataFile = LOCAL");
-  const std::size_t line_start =
-      body.rfind('\n', key) == std::string_view::npos ? 0 : body.rfind('\n', key) + 1;
-  const std::size_t line_end = std::min(body.find('\n', key), body.size());
-  const std::string_view line = trimmed(body.substr(line_start, line_end - line_start));
-  const std::size_t separator = line.find_first_of("=:");
-  // MetaIO takes the value's case as it is: "lOCAL" is a file name to it.
-  const std::string_view value =
-      separator == std::string_view::npos ? "" : trimmed(line.substr(separator + 1));
-  const bool local = separator != std::string_view::npos &&
-                     lower(trimmed(line.substr(0, separator))) == "elementdatafile" &&
-                     (value == "LOCAL" || value == "Local" || value == "local");
-  if (!plain_text(body.substr(0, line_end))) refuse_header("MetaImage", "is not plain text");
-  if (!local) refuse("the MetaImage header's ElementDataFile is not LOCAL");
+  static const std::map<std::string_view, const char*> kFields = {
+      // field: the characters its value may hold ("" for any plain text)
+      {"ObjectType", ""},
+      {"ObjectSubType", ""},
+      {"Comment", ""},
+      {"Name", ""},
+      {"Modality", ""},
+      {"AnatomicalOrientation", ""},
+      {"DistanceUnits", ""},
+      {"NDims", "0123456789 "},
+      {"DimSize", "0123456789 "},
+      {"ElementNumberOfChannels", "0123456789 "},
+      {"CompressedDataSize", "0123456789 "},
+      {"ElementSpacing", "0123456789+-.eE "},
+      {"ElementSize", "0123456789+-.eE "},
+      {"Offset", "0123456789+-.eE "},
+      {"Position", "0123456789+-.eE "},
+      {"Origin", "0123456789+-.eE "},
+      {"TransformMatrix", "0123456789+-.eE "},
+      {"Orientation", "0123456789+-.eE "},
+      {"Rotation", "0123456789+-.eE "},
+      {"CenterOfRotation", "0123456789+-.eE "},
+      {"ElementMin", "0123456789+-.eE "},
+      {"ElementMax", "0123456789+-.eE "},
+      {"BinaryData", "TrueFalse"},
+      {"BinaryDataByteOrderMSB", "TrueFalse"},
+      {"ElementByteOrderMSB", "TrueFalse"},
+      {"CompressedData", "TrueFalse"},
+      {"ElementType", "MET_UCHARSORTINGLFDB"},
+  };
+  std::size_t at = 0;
+  for (;;) {
+    const std::size_t end = body.find('\n', at);
+    if (end == std::string_view::npos || end - at > 4096)
+      refuse_header("MetaImage", "has no line ElementDataFile = LOCAL");
+    std::string_view line = body.substr(at, end - at);
+    at = end + 1;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (!plain_text(line)) refuse_header("MetaImage", "is not plain text");
+    const std::size_t separator = line.find_first_of("=:");
+    if (separator == std::string_view::npos)
+      refuse_header("MetaImage", "has a line that is not \"Field = value\"");
+    const std::string_view key = trimmed(line.substr(0, separator));
+    const std::string_view value = trimmed(line.substr(separator + 1));
+    if (key == "ElementDataFile") {
+      // MetaIO takes the value's case as it is: "lOCAL" is a file name to it.
+      if (value != "LOCAL" && value != "Local" && value != "local")
+        refuse("the MetaImage header's ElementDataFile is not LOCAL");
+      break;
+    }
+    const auto field = kFields.find(key);
+    if (field == kFields.end())
+      refuse_header("MetaImage", "has a field \"" + std::string(key) + "\" that is not read here");
+    const std::string_view allowed = field->second;
+    if (!allowed.empty() && value.find_first_not_of(allowed) != std::string_view::npos)
+      refuse_header("MetaImage", "gives " + std::string(key) + " a value it cannot take");
+    if (key == "CompressedDataSize" &&
+        std::strtoull(std::string(value).c_str(), nullptr, 10) > body.size())
+      refuse_header("MetaImage", "announces more compressed data than it holds");
+  }
 }
 
 }  // namespace

@@ -153,6 +153,15 @@ class TetrahedronGrid {
              it != cells_.end() && it->first == k; ++it) {
           const auto& b = mesh_.boundary[it->second];
           if (b.inner != label && b.outer != label) continue;
+          // The tetrahedron's bounding box first: most are farther than the best so far (and a
+          // tetrahedron in several cells is measured once where it can still win).
+          const auto bb = box(b);
+          double squared = 0;
+          for (int a = 0; a < 4; ++a) {
+            const double gap = std::max({0.0, bb[0][a] - p[a], p[a] - bb[1][a]});
+            squared += gap * gap;
+          }
+          if (squared >= best * best) continue;
           std::array<Point4, 4> v{};
           for (int j = 0; j < 4; ++j) v[j] = mesh_.vertices[b.vertices[j]];
           best = std::min(best, distance_to_tetrahedron(p, v));

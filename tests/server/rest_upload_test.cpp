@@ -122,5 +122,28 @@ TEST(RestUpload, RefusesNrrdHeadersThatCannotBeCheckedFirst) {
   EXPECT_NO_THROW(decode_rest_upload(short_data + '\1', {}));
 }
 
+// MetaIO parses malformed headers past their end: a MetaImage upload is taken when each line is
+// a field it knows, spelt its way, as ITK writes them.
+TEST(RestUpload, TakesMetaImageHeadersOnlyInTheFormItReads) {
+  const std::string itk_style =
+      "ObjectType = Image\nNDims = 4\nBinaryData = True\nBinaryDataByteOrderMSB = False\n"
+      "CompressedData = False\nTransformMatrix = 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n"
+      "Offset = 0 0 0 0\nCenterOfRotation = 0 0 0 0\nAnatomicalOrientation = ????\n"
+      "ElementSpacing = 1.5 1.5 2 5\nDimSize = 6 6 6 2\nElementType = MET_UCHAR\n"
+      "ElementDataFile = LOCAL\n";
+  std::string voxels(432, '\0');
+  for (std::size_t i = 0; i < voxels.size(); i += 5) voxels[i] = 1;
+  EXPECT_NO_THROW(decode_rest_upload(itk_style + voxels, {}));
+  const auto with = [&](const std::string& from, const std::string& to) {
+    std::string body = itk_style + voxels;
+    body.replace(body.find(from), from.size(), to);
+    return refusal(body, {});
+  };
+  EXPECT_NE(with("ElementDataFile", "ElEmentDataFile").find("ElEmentDataFile"), std::string::npos);
+  EXPECT_NE(with("NDims = 4", "NDims = 4x").find("NDims"), std::string::npos);
+  EXPECT_NE(with("CompressedData = False", "CompressedDataSize = 99999999").find("more compressed"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace mesh4d::server
