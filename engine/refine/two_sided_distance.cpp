@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <unordered_map>
 
 namespace mesh4d::refine {
 namespace {
@@ -120,13 +121,21 @@ class TetrahedronGrid {
  public:
   explicit TetrahedronGrid(const mesh::Mesh4& mesh) : mesh_(mesh) {
     if (mesh.boundary.empty()) return;
-    double extent = 0;
-    for (const auto& b : mesh.boundary) extent += box(b)[1][0] - box(b)[0][0];
-    cell_ = std::max(1e-9, 2 * extent / double(mesh.boundary.size()));
+    // Cells as large as a tetrahedron's mean extent along each axis (space and time differ):
+    // each tetrahedron lies in a few cells and each cell holds a few tetrahedra.
+    Point4 extent{};
+    for (const auto& b : mesh.boundary) {
+      const auto bb = box(b);
+      for (int a = 0; a < 4; ++a) extent[a] += bb[1][a] - bb[0][a];
+    }
+    const double widest = *std::max_element(extent.begin(), extent.end());
+    for (int a = 0; a < 4; ++a)
+      cell_[a] = std::max(1e-9, std::max(extent[a], widest / 4) / double(mesh.boundary.size()));
+    smallest_cell_ = *std::min_element(cell_.begin(), cell_.end());
     for (std::uint32_t i = 0; i < mesh.boundary.size(); ++i) {
       const auto bb = box(mesh.boundary[i]);
       std::array<long, 4> lo{}, hi{};
-      for (int a = 0; a < 4; ++a) lo[a] = cell_of(bb[0][a]), hi[a] = cell_of(bb[1][a]);
+      for (int a = 0; a < 4; ++a) lo[a] = cell_of(bb[0][a], a), hi[a] = cell_of(bb[1][a], a);
       for (long t = lo[3]; t <= hi[3]; ++t)
         for (long z = lo[2]; z <= hi[2]; ++z)
           for (long y = lo[1]; y <= hi[1]; ++y)
@@ -135,45 +144,71 @@ class TetrahedronGrid {
         low_[a] = std::min(low_[a], lo[a]), high_[a] = std::max(high_[a], hi[a]);
     }
     std::sort(cells_.begin(), cells_.end());
+    for (std::size_t i = 0; i < cells_.size();) {
+      std::size_t j = i;
+      while (j < cells_.size() && cells_[j].first == cells_[i].first) ++j;
+      ranges_.emplace(cells_[i].first, std::pair{i, j});
+      i = j;
+    }
   }
 
   // The distance from p to the nearest boundary tetrahedron with `label` on one side.
   double nearest(const Point4& p, domain::Label label) const {
     if (cells_.empty()) return kInfinity;
-    std::array<long, 4> c{};
-    for (int a = 0; a < 4; ++a) c[a] = cell_of(p[a]);
-    long reach = 0;  // rings beyond which no cell holds a tetrahedron
-    for (int a = 0; a < 4; ++a)
-      reach = std::max({reach, std::abs(c[a] - low_[a]), std::abs(c[a] - high_[a])});
-    double best = kInfinity;
-    for (long r = 0; r <= reach; ++r) {
-      visit_ring(c, r, [&](const std::array<long, 4>& cell) {
-        const std::uint64_t k = key(cell);
-        for (auto it = std::lower_bound(cells_.begin(), cells_.end(), std::pair{k, 0u});
-             it != cells_.end() && it->first == k; ++it) {
-          const auto& b = mesh_.boundary[it->second];
-          if (b.inner != label && b.outer != label) continue;
-          // The tetrahedron's bounding box first: most are farther than the best so far (and a
-          // tetrahedron in several cells is measured once where it can still win).
-          const auto bb = box(b);
-          double squared = 0;
-          for (int a = 0; a < 4; ++a) {
-            const double gap = std::max({0.0, bb[0][a] - p[a], p[a] - bb[1][a]});
-            squared += gap * gap;
-          }
-          if (squared >= best * best) continue;
-          std::array<Point4, 4> v{};
-          for (int j = 0; j < 4; ++j) v[j] = mesh_.vertices[b.vertices[j]];
-          best = std::min(best, distance_to_tetrahedron(p, v));
-        }
-      });
-      // Cells of the next ring lie at least r cells from p's own cell.
-      if (best <= double(r) * cell_) break;
+    // Boxes of cells around p that cover a ball of radius `reach`, doubled until the nearest
+    // tetrahedron found lies within it (or the box holds every cell). In a box, each candidate
+    // gets a lower bound (its bounding box) and an upper one (its nearest vertex); exact
+    // distances are taken nearest bound first, while a candidate can still win.
+    std::vector<std::pair<double, std::uint32_t>> candidates;
+    for (double reach = smallest_cell_ / 4;; reach *= 2) {
+      std::array<long, 4> lo{}, hi{};
+      bool everything = true;
+      for (int a = 0; a < 4; ++a) {
+        lo[a] = std::max(low_[a], cell_of(p[a] - reach, a));
+        hi[a] = std::min(high_[a], cell_of(p[a] + reach, a));
+        everything = everything && lo[a] == low_[a] && hi[a] == high_[a];
+      }
+      candidates.clear();
+      double best = kInfinity;
+      for (long t = lo[3]; t <= hi[3]; ++t)
+        for (long z = lo[2]; z <= hi[2]; ++z)
+          for (long y = lo[1]; y <= hi[1]; ++y)
+            for (long x = lo[0]; x <= hi[0]; ++x)
+              add_candidates({x, y, z, t}, p, label, &candidates, &best);
+      std::sort(candidates.begin(), candidates.end());
+      for (const auto& [lower, index] : candidates) {
+        if (lower >= best) break;
+        std::array<Point4, 4> v{};
+        for (int k = 0; k < 4; ++k) v[k] = mesh_.vertices[mesh_.boundary[index].vertices[k]];
+        best = std::min(best, distance_to_tetrahedron(p, v));
+      }
+      if (best <= reach || everything) return best;
     }
-    return best;
   }
 
  private:
+  // The cell's tetrahedra with `label` on a side, each with the distance to its bounding box
+  // (a lower bound); `bound` falls to the distance to their nearest vertex (an upper one).
+  void add_candidates(const std::array<long, 4>& cell, const Point4& p, domain::Label label,
+                      std::vector<std::pair<double, std::uint32_t>>* out, double* bound) const {
+    const auto range = ranges_.find(key(cell));
+    if (range == ranges_.end()) return;
+    for (std::size_t i = range->second.first; i < range->second.second; ++i) {
+      const auto& b = mesh_.boundary[cells_[i].second];
+      if (b.inner != label && b.outer != label) continue;
+      const auto bb = box(b);
+      double squared = 0;
+      for (int a = 0; a < 4; ++a) {
+        const double gap = std::max({0.0, bb[0][a] - p[a], p[a] - bb[1][a]});
+        squared += gap * gap;
+      }
+      const double lower = std::sqrt(squared);
+      if (lower >= *bound) continue;
+      for (auto v : b.vertices) *bound = std::min(*bound, distance(p, mesh_.vertices[v]));
+      out->emplace_back(lower, cells_[i].second);
+    }
+  }
+
   std::array<Point4, 2> box(const mesh::BoundaryTetrahedron& b) const {
     std::array<Point4, 2> bb{mesh_.vertices[b.vertices[0]], mesh_.vertices[b.vertices[0]]};
     for (auto v : b.vertices)
@@ -182,25 +217,17 @@ class TetrahedronGrid {
         bb[1][a] = std::max(bb[1][a], mesh_.vertices[v][a]);
     return bb;
   }
-  long cell_of(double x) const { return long(std::floor(x / cell_)); }
+  long cell_of(double x, int axis) const { return long(std::floor(x / cell_[axis])); }
   static std::uint64_t key(const std::array<long, 4>& c) {
     std::uint64_t k = 0;
     for (long x : c) k = k * 0x10000 + std::uint64_t(x + 0x8000) % 0x10000;
     return k;
   }
-  template <typename Visit>
-  static void visit_ring(const std::array<long, 4>& c, long r, Visit visit) {
-    for (long t = -r; t <= r; ++t)
-      for (long z = -r; z <= r; ++z)
-        for (long y = -r; y <= r; ++y)
-          for (long x = -r; x <= r; ++x)
-            if (std::max({std::abs(x), std::abs(y), std::abs(z), std::abs(t)}) == r)
-              visit({c[0] + x, c[1] + y, c[2] + z, c[3] + t});
-  }
-
   const mesh::Mesh4& mesh_;
-  double cell_ = 1;
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> cells_;
+  Point4 cell_{1, 1, 1, 1};
+  double smallest_cell_ = 1;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> cells_;                     // sorted by cell
+  std::unordered_map<std::uint64_t, std::pair<std::size_t, std::size_t>> ranges_;  // in cells_
   std::array<long, 4> low_{LONG_MAX, LONG_MAX, LONG_MAX, LONG_MAX};
   std::array<long, 4> high_{LONG_MIN, LONG_MIN, LONG_MIN, LONG_MIN};
 };
@@ -223,20 +250,17 @@ std::vector<TwoSidedDistance> two_sided_distances(const mesh::Mesh4& mesh,
   // the image: the first pass sets each label's stride, the second samples).
   std::map<domain::Label, std::size_t> faces, seen;
   const auto each_face = [&](auto on_face) {
-    for (std::size_t t = 0; t < d[3]; ++t)
-      for (std::size_t z = 0; z < d[2]; ++z)
-        for (std::size_t y = 0; y < d[1]; ++y)
-          for (std::size_t x = 0; x < d[0]; ++x) {
-            const domain::Label here = image.at(x, y, z, t);
-            const std::array<std::size_t, 4> v{x, y, z, t};
-            for (int a = 0; a < 4; ++a) {
-              if (v[a] + 1 >= d[a]) continue;  // closed images have background at the border
-              std::array<std::size_t, 4> n = v;
-              ++n[a];
-              const domain::Label there = image.at(n[0], n[1], n[2], n[3]);
-              if (here != there) on_face(v, a, here, there);
-            }
-          }
+    const std::array<std::size_t, 4> stride{1, d[0], d[0] * d[1], d[0] * d[1] * d[2]};
+    std::array<std::size_t, 4> v{0, 0, 0, 0};
+    for (std::size_t i = 0; i < image.voxel_count(); ++i) {
+      const domain::Label here = image.at(i);
+      for (int a = 0; a < 4; ++a) {
+        if (v[a] + 1 >= d[a]) continue;  // closed images have background at the border
+        const domain::Label there = image.at(i + stride[a]);
+        if (here != there) on_face(v, a, here, there);
+      }
+      for (int a = 0; a < 4 && ++v[a] == d[a]; ++a) v[a] = 0;
+    }
   };
   each_face([&](const auto&, int, domain::Label here, domain::Label there) {
     if (here) ++faces[here];
