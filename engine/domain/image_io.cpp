@@ -51,10 +51,17 @@ struct NiftiFacts {
   double voxel_offset = -1;  // -1: not a NIfTI header
   int dims = 0;
   std::array<double, 4> spacing{};  // pixdim[1..4]
-  // ITK builds the direction matrix from pixdim[0], the quaternion and the affine rows, and a
-  // non-finite entry there makes its SVD call abort(): one upload would end the server.
-  bool orientation_finite = true;
+  // ITK builds the direction matrix from pixdim[0], the quaternion and the affine rows by an
+  // SVD in single precision: a non-finite entry makes it call abort(), and one near the float
+  // range (1e38) makes it loop for ever. Either way one upload would end or hang the server.
+  bool orientation_sane = true;
 };
+
+// An orientation number that a medical image can have: a unit quaternion's part, a direction
+// times a voxel size, or an offset, in mm: at most a kilometre.
+bool sane_orientation_number(double x) {
+  return std::isfinite(x) && std::abs(x) <= 1e6;
+}
 
 NiftiFacts read_nifti_facts(const NiftiHeader& header) {
   const auto read = [&](std::size_t at, std::size_t bytes, bool swap) {
@@ -86,7 +93,7 @@ NiftiFacts read_nifti_facts(const NiftiHeader& header) {
     for (std::size_t at : {76, 256, 260, 264, 268, 272, 276, 280, 284, 288, 292, 296, 300, 304, 308,
                            312, 316, 320, 324}) {
       std::memcpy(&f32, read(at, 4, swap).data(), 4);
-      facts.orientation_finite = facts.orientation_finite && std::isfinite(f32);
+      facts.orientation_sane = facts.orientation_sane && sane_orientation_number(f32);
     }
   } else if (sizeof_hdr == 540) {
     std::int64_t i64;
@@ -102,11 +109,11 @@ NiftiFacts read_nifti_facts(const NiftiHeader& header) {
     for (std::size_t at = 352; at < 496; at += 8) {
       double f64;
       std::memcpy(&f64, read(at, 8, swap).data(), 8);
-      facts.orientation_finite = facts.orientation_finite && std::isfinite(f64);
+      facts.orientation_sane = facts.orientation_sane && sane_orientation_number(f64);
     }
     double pixdim0;
     std::memcpy(&pixdim0, read(104, 8, swap).data(), 8);
-    facts.orientation_finite = facts.orientation_finite && std::isfinite(pixdim0);
+    facts.orientation_sane = facts.orientation_sane && sane_orientation_number(pixdim0);
   }
   return facts;
 }
@@ -114,10 +121,10 @@ NiftiFacts read_nifti_facts(const NiftiHeader& header) {
 // ITK reads a voxel size of 0 or NaN as 1, and a negative one as its absolute value: a header
 // that says so is refused, as the gRPC face refuses such a spacing.
 void check_nifti_spacing(const std::string& path, const NiftiFacts& facts) {
-  if (!facts.orientation_finite)
+  if (!facts.orientation_sane)
     throw ImageError(path +
                      ": the header's orientation (pixdim[0], the quaternion or the affine "
-                     "rows) holds a non-finite number");
+                     "rows) holds a number that is not finite or is beyond 1e6");
   static const char* axis[4] = {"x", "y", "z", "t"};
   for (int a = 0; a < std::min(facts.dims, 4); ++a)
     if (!std::isfinite(facts.spacing[a]) || facts.spacing[a] <= 0) {
