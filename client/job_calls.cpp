@@ -1,11 +1,13 @@
 #include "job_calls.h"
 
+#include <google/protobuf/util/json_util.h>
 #include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "exit_codes.h"
 #include "job_printing.h"
@@ -109,6 +111,21 @@ int fetch_result(const GlobalOptions& global, const std::string& id, const std::
   }
   for (const auto& w : header.warnings()) std::cerr << "warning: " << w << "\n";
   std::cerr << "wrote " << path << " (" << mesh.size() << " bytes)\n";
+  // The result's report travels with the mesh: its statistics and fidelity certificate (the
+  // REST face's field names), its warnings and its checksum.
+  std::string stats;
+  google::protobuf::util::JsonPrintOptions options;
+  options.preserve_proto_field_names = true;
+  google::protobuf::util::MessageToJsonString(header.stats(), &stats, options);
+  nlohmann::json report = {
+      {"job_id", id},
+      {"sha256", wire::sha256_hex(mesh)},
+      {"byte_size", mesh.size()},
+      {"warnings", std::vector<std::string>(header.warnings().begin(), header.warnings().end())},
+      {"stats", nlohmann::json::parse(stats, nullptr, false)}};
+  const std::string report_path = path + ".report.json";
+  std::ofstream(report_path) << report.dump(2) << "\n";
+  std::cerr << "wrote " << report_path << " (statistics and fidelity certificate)\n";
   return kExitOk;
 }
 

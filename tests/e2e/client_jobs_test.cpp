@@ -13,6 +13,7 @@
 #include "domain/phantoms.h"
 #include "mesh/mesh_io.h"
 #include "server_fixture.h"
+#include "wire/digest.h"
 
 namespace mesh4d::testing {
 namespace {
@@ -72,6 +73,16 @@ TEST(ClientJobs, EachSubcommandOnRealJobsThenWithoutAServer) {
   const RunResult fetched = client({"fetch", id, "--out", dir + "/sphere.m4d"});
   ASSERT_EQ(fetched.exit_code, 0) << fetched.output;
   EXPECT_GT(mesh::read_m4d(dir + "/sphere.m4d").pentatopes.size(), 100u);
+  // The report beside it: the mesh's checksum and the fidelity certificate, per label.
+  std::ifstream report_file(dir + "/sphere.m4d.report.json");
+  const auto report = nlohmann::json::parse(report_file, nullptr, false);
+  ASSERT_TRUE(report.is_object()) << "no sphere.m4d.report.json";
+  std::ifstream mesh_file(dir + "/sphere.m4d", std::ios::binary);
+  const std::string mesh_bytes{std::istreambuf_iterator<char>(mesh_file), {}};
+  EXPECT_EQ(report["sha256"], wire::sha256_hex(mesh_bytes));
+  ASSERT_EQ(report["stats"]["certificate"].size(), 1u) << report.dump();
+  EXPECT_EQ(report["stats"]["certificate"][0]["mesh_pieces"], "1");
+  EXPECT_GT(report["stats"]["certificate"][0]["image_to_mesh_max"].get<double>(), 0.0);
   const RunResult deleted = client({"delete", id});
   ASSERT_EQ(deleted.exit_code, 0) << deleted.output;
   EXPECT_EQ(client({"status", id}).exit_code, 4);
