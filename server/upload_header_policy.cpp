@@ -60,12 +60,12 @@ void check_nrrd(std::string_view body) {
       header.find("lineskip") != std::string::npos ||
       header.find("byte skip") != std::string::npos || header.find("byteskip") != std::string::npos)
     refuse_header("NRRD", "skips lines or bytes before the data");
-  const std::size_t encoding = header.find("\nencoding:");
-  const std::string_view value =
-      encoding == std::string::npos
-          ? std::string_view()
-          : trimmed(std::string_view(header).substr(
-                encoding + 11, header.find('\n', encoding + 1) - encoding - 11));
+  constexpr std::string_view kEncoding = "\nencoding:";
+  std::string_view value;
+  if (const std::size_t at = header.find(kEncoding); at != std::string::npos) {
+    const std::size_t start = at + kEncoding.size();  // within the header: it ends with ':'
+    value = trimmed(std::string_view(header).substr(start, header.find('\n', start) - start));
+  }
   if (value != "raw" && value != "gzip" && value != "gz")
     refuse_header("NRRD", "gives an encoding other than raw or gzip");
 }

@@ -113,6 +113,7 @@ TEST(RestUpload, RefusesNrrdHeadersThatCannotBeCheckedFirst) {
   const std::string head = "NRRD0004\ntype: uint8\ndimension: 4\nsizes: 6 6 6 2\n";
   EXPECT_NE(refusal(head + "encoding: ascii\n\n0 1 0", {}).find("raw or gzip"), std::string::npos);
   EXPECT_NE(refusal(head + "encoding: raw\n", {}).find("no empty line"), std::string::npos);
+  EXPECT_NE(refusal(head + "encoding:\n\n", {}).find("raw or gzip"), std::string::npos);
   EXPECT_NE(refusal(head + std::string("encoding: raw\n\0\0\n\n", 20), {}).find("plain text"),
             std::string::npos);
   EXPECT_NE(refusal(head + "encoding: raw\nbyte skip: 4\n\n", {}).find("skips"), std::string::npos);
