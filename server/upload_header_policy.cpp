@@ -36,10 +36,15 @@ std::string_view trimmed(std::string_view s) {
                                " file with a plain-text header and its voxels attached");
 }
 
+// Printable ASCII, tabs and line ends. A carriage return only ends a line (before '\n'): the
+// readers split lines on a lone one too, or keep it in a value, where these checks would not.
 bool plain_text(std::string_view header) {
-  return std::all_of(header.begin(), header.end(), [](unsigned char c) {
-    return (c >= 0x20 && c < 0x7f) || c == '\n' || c == '\r' || c == '\t';
-  });
+  for (std::size_t i = 0; i < header.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(header[i]);
+    const bool line_end = c == '\r' && (i + 1 == header.size() || header[i + 1] == '\n');
+    if (!((c >= 0x20 && c < 0x7f) || c == '\n' || c == '\t' || line_end)) return false;
+  }
+  return true;
 }
 
 // The checks are by substring over the whole header, not by parsing it as ITK's readers do:
@@ -113,7 +118,8 @@ void check_meta_image(std::string_view body) {
     std::string_view line = body.substr(at, end - at);
     at = end + 1;
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    if (!plain_text(line)) refuse_header("MetaImage", "is not plain text");
+    if (!plain_text(line) || line.find('\r') != std::string_view::npos)
+      refuse_header("MetaImage", "is not plain text");
     const std::size_t separator = line.find_first_of("=:");
     if (separator == std::string_view::npos)
       refuse_header("MetaImage", "has a line that is not \"Field = value\"");

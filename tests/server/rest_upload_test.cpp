@@ -123,6 +123,13 @@ TEST(RestUpload, RefusesNrrdHeadersThatCannotBeCheckedFirst) {
   EXPECT_NO_THROW(decode_rest_upload(short_data + '\1', {}));
 }
 
+// The header's lines ended with "\r\n", as Windows tools write them.
+std::string with_crlf(std::string text) {
+  for (std::size_t at = 0; (at = text.find('\n', at)) != std::string::npos; at += 2)
+    text.insert(at, "\r");
+  return text;
+}
+
 // MetaIO parses malformed headers past their end: a MetaImage upload is taken when each line is
 // a field it knows, spelt its way, as ITK writes them.
 TEST(RestUpload, TakesMetaImageHeadersOnlyInTheFormItReads) {
@@ -142,6 +149,8 @@ TEST(RestUpload, TakesMetaImageHeadersOnlyInTheFormItReads) {
   };
   EXPECT_NE(with("ElementDataFile", "ElEmentDataFile").find("ElEmentDataFile"), std::string::npos);
   EXPECT_NE(with("NDims = 4", "NDims = 4x").find("NDims"), std::string::npos);
+  EXPECT_NE(with("= LOCAL", "=\r LOCAL").find("plain text"), std::string::npos);
+  EXPECT_NO_THROW(decode_rest_upload(with_crlf(itk_style) + voxels, {}));
   EXPECT_NE(with("CompressedData = False", "CompressedDataSize = 99999999").find("more compressed"),
             std::string::npos);
 }
