@@ -137,6 +137,10 @@ void check_meta_image(std::string_view body) {
     const std::string_view allowed = field->second;
     if (!allowed.empty() && value.find_first_not_of(allowed) != std::string_view::npos)
       refuse_header("MetaImage", "gives " + std::string(key) + " a value it cannot take");
+    // MetaIO reads as many numbers per field as NDims says, and makes as many channels as asked.
+    if ((key == "NDims" || key == "ElementNumberOfChannels") &&
+        (value.empty() || value.size() > 1 || value[0] < '1' || value[0] > '4'))
+      refuse_header("MetaImage", "gives " + std::string(key) + " a value outside 1 to 4");
     if (key == "CompressedDataSize" &&
         std::strtoull(std::string(value).c_str(), nullptr, 10) > body.size())
       refuse_header("MetaImage", "announces more compressed data than it holds");

@@ -149,6 +149,7 @@ TEST(RestUpload, TakesMetaImageHeadersOnlyInTheFormItReads) {
   };
   EXPECT_NE(with("ElementDataFile", "ElEmentDataFile").find("ElEmentDataFile"), std::string::npos);
   EXPECT_NE(with("NDims = 4", "NDims = 4x").find("NDims"), std::string::npos);
+  EXPECT_NE(with("NDims = 4", "NDims = 41111111111").find("1 to 4"), std::string::npos);
   EXPECT_NE(with("= LOCAL", "=\r LOCAL").find("plain text"), std::string::npos);
   EXPECT_NO_THROW(decode_rest_upload(with_crlf(itk_style) + voxels, {}));
   EXPECT_NE(with("CompressedData = False", "CompressedDataSize = 99999999").find("more compressed"),
