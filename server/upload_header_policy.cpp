@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <map>
+#include <set>
 #include <string_view>
+#include <vector>
 
 #include "wire/service_error.h"
 
@@ -51,6 +54,145 @@ bool plain_text(std::string_view header) {
 // what they take for a field name (NUL bytes, case, separators) is theirs to decide, and any
 // header that mentions a data file at all is refused.
 
+// Space-separated tokens of a value.
+std::vector<std::string_view> tokens(std::string_view value) {
+  std::vector<std::string_view> out;
+  while (!(value = trimmed(value)).empty()) {
+    const std::size_t end = std::min(value.find_first_of(" \t"), value.size());
+    out.push_back(value.substr(0, end));
+    value.remove_prefix(end);
+  }
+  return out;
+}
+
+bool number(std::string_view token, bool positive_integer = false) {
+  if (token.empty() || token.size() > 40) return false;
+  const std::string text(token);
+  char* end = nullptr;
+  const double x = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size() || !std::isfinite(x)) return false;
+  return !positive_integer ||
+         (text.find_first_not_of("0123456789") == std::string::npos && x >= 1 && x < 1e12);
+}
+
+// "(x,y,z)" with `n` numbers.
+bool vector_token(std::string_view token, std::size_t n) {
+  if (token.size() < 2 || token.front() != '(' || token.back() != ')') return false;
+  token = token.substr(1, token.size() - 2);
+  std::size_t count = 0;
+  for (;;) {
+    const std::size_t comma = std::min(token.find(','), token.size());
+    if (!number(trimmed(token.substr(0, comma)))) return false;
+    ++count;
+    if (comma == token.size()) break;
+    token.remove_prefix(comma + 1);
+  }
+  return count == n;
+}
+
+// NrrdIO leaks whatever it has parsed when a header fails, so the fields it would parse are
+// checked here first: only those a label volume needs, each with a value of its form, and no
+// key:=value pairs.
+void check_nrrd_fields(std::string_view header) {
+  static const std::set<std::string_view> kTypes = {
+      "uint8",  "uchar",  "unsigned char",  "int8",  "signed char", "char",
+      "uint16", "ushort", "unsigned short", "int16", "short",       "signed short",
+      "uint32", "uint",   "unsigned int",   "int32", "int",         "signed int",
+      "uint64", "int64",  "float",          "double"};
+  // Each space with its dimension: ITK takes a space only as wide as the image.
+  static const std::map<std::string_view, std::size_t> kSpaces = {
+      {"right-anterior-superior", 3},
+      {"RAS", 3},
+      {"left-anterior-superior", 3},
+      {"LAS", 3},
+      {"left-posterior-superior", 3},
+      {"LPS", 3},
+      {"right-anterior-superior-time", 4},
+      {"RAST", 4},
+      {"left-anterior-superior-time", 4},
+      {"LAST", 4},
+      {"left-posterior-superior-time", 4},
+      {"LPST", 4},
+      {"scanner-xyz", 3},
+      {"scanner-xyz-time", 4},
+      {"3D-right-handed", 3},
+      {"3D-left-handed", 3},
+      {"3D-right-handed-time", 4},
+      {"3D-left-handed-time", 4}};
+  static const std::set<std::string_view> kKinds = {"domain", "space", "time", "list",
+                                                    "scalar", "none",  "???"};
+  static const std::set<std::string_view> kCenters = {"cell", "node", "none", "???"};
+  std::size_t dimension = 0, space_dimension = 3;
+  std::map<std::string, std::string_view> fields;
+  std::size_t at = header.find('\n') + 1;  // after the magic line
+  if (header.rfind("NRRD000", 0) != 0 || at == 0)
+    refuse_header("NRRD", "does not start with its magic (NRRD0001 to NRRD0005)");
+  while (at < header.size()) {
+    const std::size_t end = std::min(header.find('\n', at), header.size());
+    std::string_view line = header.substr(at, end - at);
+    at = end + 1;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (line.empty() || line.front() == '#') continue;
+    const std::size_t colon = line.find(':');
+    if (colon == std::string_view::npos || line.substr(colon).rfind(":=", 0) == 0)
+      refuse_header("NRRD", "has a line that is not \"field: value\" (key:=value pairs included)");
+    const std::string field(line.substr(0, colon));
+    if (fields.count(field)) refuse_header("NRRD", "gives \"" + field + "\" twice");
+    fields[field] = trimmed(line.substr(colon + 1));
+  }
+  const auto bad = [](const std::string& field) {
+    refuse_header("NRRD", "has a \"" + field + "\" field that is not read here or not of its form");
+  };
+  for (const char* needed : {"type", "dimension", "sizes", "encoding"})
+    if (!fields.count(needed)) bad(needed);
+  const std::string_view d = fields["dimension"];
+  if (d.size() != 1 || d[0] < '1' || d[0] > '4') bad("dimension");
+  dimension = std::size_t(d[0] - '0');
+  if (fields.count("space dimension")) {
+    const std::string_view sd = fields["space dimension"];
+    if (sd.size() != 1 || sd[0] < '1' || sd[0] > '4') bad("space dimension");
+    space_dimension = std::size_t(sd[0] - '0');
+  }
+  if (fields.count("space")) {
+    const auto space = kSpaces.find(fields["space"]);
+    if (space == kSpaces.end()) bad("space");
+    space_dimension = space->second;
+  }
+  if ((fields.count("space") || fields.count("space dimension")) && space_dimension != dimension)
+    refuse_header("NRRD", "gives a space of another dimension than the image's");
+  for (const auto& [field, value] : fields) {
+    const auto t = tokens(value);
+    const auto all = [&](auto ok) { return std::all_of(t.begin(), t.end(), ok); };
+    bool fine = true;
+    if (field == "type") {
+      fine = kTypes.count(value) > 0;
+    } else if (field == "sizes") {
+      fine = t.size() == dimension && all([](auto x) { return number(x, true); });
+    } else if (field == "spacings" || field == "thicknesses" || field == "axis mins" ||
+               field == "axis maxs") {
+      fine = t.size() == dimension && all([](auto x) { return x == "nan" || number(x); });
+    } else if (field == "endian") {
+      fine = value == "little" || value == "big";
+    } else if (field == "space") {
+      fine = true;  // checked above
+    } else if (field == "space directions") {
+      fine = t.size() == dimension && all([&](auto x) { return vector_token(x, space_dimension); });
+    } else if (field == "space origin") {
+      fine = t.size() == 1 && vector_token(t[0], space_dimension);
+    } else if (field == "kinds") {
+      fine = t.size() == dimension && all([](auto x) { return kKinds.count(x) > 0; });
+    } else if (field == "centers" || field == "centerings") {
+      fine = t.size() == dimension && all([](auto x) { return kCenters.count(x) > 0; });
+    } else if (field == "content" || field == "space dimension" || field == "dimension" ||
+               field == "encoding") {
+      fine = true;
+    } else {
+      fine = false;
+    }
+    if (!fine) bad(field);
+  }
+}
+
 // A NRRD header ends at its first empty line.
 void check_nrrd(std::string_view body) {
   std::size_t end = body.find("\n\n");
@@ -73,6 +215,7 @@ void check_nrrd(std::string_view body) {
   }
   if (value != "raw" && value != "gzip" && value != "gz")
     refuse_header("NRRD", "gives an encoding other than raw or gzip");
+  check_nrrd_fields(body.substr(0, end));
 }
 
 // A MetaImage header ends with its ElementDataFile field; LOCAL means the voxels follow. MetaIO

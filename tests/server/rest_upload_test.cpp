@@ -121,6 +121,21 @@ TEST(RestUpload, RefusesNrrdHeadersThatCannotBeCheckedFirst) {
   EXPECT_NE(refusal(short_data, {}).find("end early: 431 bytes of the header's 432"),
             std::string::npos);
   EXPECT_NO_THROW(decode_rest_upload(short_data + '\1', {}));
+  // As 3D Slicer writes one; a key:=value pair or an unknown field is refused.
+  const std::string slicer =
+      "NRRD0004\n# Complete NRRD file format specification at:\ntype: unsigned char\n"
+      "dimension: 4\nspace: left-posterior-superior-time\nsizes: 6 6 6 2\n"
+      "space directions: (1.5,0,0,0) (0,1.5,0,0) (0,0,2,0) (0,0,0,5)\n"
+      "kinds: domain domain domain domain\nendian: little\nencoding: raw\n"
+      "space origin: (-3,0,1,0)\n\n" +
+      std::string(432, '\1');
+  EXPECT_NO_THROW(decode_rest_upload(slicer, {}));
+  std::string pair = slicer;
+  pair.insert(pair.find("endian"), "lab:=heart\n");
+  EXPECT_NE(refusal(pair, {}).find("key:=value"), std::string::npos);
+  std::string unknown = slicer;
+  unknown.insert(unknown.find("endian"), "min: 0\n");
+  EXPECT_NE(refusal(unknown, {}).find("\"min\""), std::string::npos);
 }
 
 // The header's lines ended with "\r\n", as Windows tools write them.
