@@ -87,14 +87,22 @@ TEST_F(JobManagerTest, AWatcherSeesEveryStepUntilTheJobEnds) {
   JobManager jobs(store_, {}, nullptr, fake_.runner());
   jobs.start();
   const std::string id = jobs.submit(upload(21).spec, upload(21).data).job.id();
+  // The job is released only once the watch has its first event: a watch that begins after the
+  // job ended sees one snapshot, not the steps.
+  std::promise<void> watching;
   auto watched = std::async(std::launch::async, [&] {
     std::vector<v1::JobEvent> events;
     const auto end = jobs.watch(
-        id, 0, [&](const v1::JobEvent& e) { return events.push_back(e), true; },
+        id, 0,
+        [&](const v1::JobEvent& e) {
+          if (events.empty()) watching.set_value();
+          return events.push_back(e), true;
+        },
         [] { return false; });
     return std::pair{end, events};
   });
   ASSERT_TRUE(fake_.wait_started(1));
+  ASSERT_EQ(watching.get_future().wait_for(std::chrono::seconds(10)), std::future_status::ready);
   fake_.release();
   ASSERT_EQ(watched.wait_for(std::chrono::seconds(10)), std::future_status::ready);
   const auto [end, events] = watched.get();
