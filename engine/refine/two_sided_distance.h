@@ -10,14 +10,12 @@
 
 #include "domain/label_image.h"
 #include "mesh/mesh4.h"
+#include "refine/boundary_distance.h"
 
 namespace mesh4d::refine {
 
-struct SidedDistance {
-  std::size_t samples = 0;
-  double max = 0;   // physical units
-  double mean = 0;  // physical units
-};
+/// One side's samples, max and mean: the same summary as the oracle-based measure.
+using SidedDistance = BoundaryDistance;
 
 struct TwoSidedDistance {
   domain::Label label = 0;
