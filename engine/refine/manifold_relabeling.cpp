@@ -365,9 +365,17 @@ bool ManifoldRelabeling::repair(const NonManifoldVertex& f, int depth, long* gai
   return false;
 }
 
-ManifoldRelabeling::Outcome ManifoldRelabeling::run() {
+ManifoldRelabeling::Outcome ManifoldRelabeling::run(const std::vector<VertexId>* around) {
   Outcome outcome;
-  std::vector<NonManifoldVertex> failing = find_non_manifold_vertices(state_);
+  std::vector<NonManifoldVertex> failing;
+  if (around) {
+    std::vector<CellId> star;
+    for (VertexId v : *around)
+      if (state_.tri.store().vertex(v).kind != delaunay::VertexKind::removed)
+        non_manifold_labels_at(state_, v, star, &failing);
+  } else {
+    failing = find_non_manifold_vertices(state_);
+  }
   std::vector<VertexId> retry;  // vertices near this round's moves
   for (int round = 0; round < kRounds && !failing.empty(); ++round) {
     std::size_t moved = 0;
@@ -403,7 +411,7 @@ ManifoldRelabeling::Outcome ManifoldRelabeling::run() {
   }
   stars_.clear();
   near_facets_.clear();
-  outcome.left = failing.size();
+  outcome.failing = std::move(failing);
   return outcome;
 }
 

@@ -36,10 +36,11 @@ class ManifoldRelabeling {
   ManifoldRelabeling(RefinementState& state, const PinchScan& scan) : state_(state), scan_(scan) {}
 
   struct Outcome {
-    std::size_t moved = 0;  // pentatopes that changed label
-    std::size_t left = 0;   // failing (vertex, label) pairs left
+    std::size_t moved = 0;                   // pentatopes that changed label
+    std::vector<NonManifoldVertex> failing;  // the (vertex, label) pairs left
   };
-  Outcome run();
+  /// Over every boundary vertex, or only those `around` (the others' links are known to pass).
+  Outcome run(const std::vector<mesh4d::VertexId>* around = nullptr);
   /// After run(): pieces of a label that share an image piece with a larger piece of the label
   /// take their neighbors' label where the moves are allowed and make no link fail
   /// (extra_pieces.cpp, extra_pieces.h).

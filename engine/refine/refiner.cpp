@@ -15,6 +15,7 @@
 
 #include "refine/extraction.h"
 #include "refine/manifold_relabeling.h"
+#include "refine/manifold_sampling.h"
 #include "refine/operation.h"
 #include "refine/parallel_refiner.h"
 #include "refine/pinch_repair.h"
@@ -99,6 +100,18 @@ struct Refiner::Pipeline {
     return moved;
   }
 
+  // Where the relabeling left a region's link failing, ∂Ω is sampled more finely there.
+  ManifoldSampling::Outcome sample_manifold(std::vector<NonManifoldVertex> failing,
+                                            ProgressSink* sink) {
+    workers.ensure(state.params.threads);  // a log per worker that may run an operation
+    ManifoldSampling sampling(state, scan, operation, workers.size());
+    return sampling.run(
+        std::move(failing), [&] { drain(sink); },
+        [&](const std::vector<RepairPoint>& points, double spacing) {
+          return parallel.insert_points(points, spacing);
+        });
+  }
+
   // The pinches and non-manifold vertices left, the statistics and the counters.
   void finish(RefineResult& result) {
     if (result.non_manifold_left) {
@@ -155,11 +168,13 @@ RefineResult Refiner::run(ProgressSink* sink) {
   result.relabeled = p.relabel(sink);
   ManifoldRelabeling manifold_step(p.state, p.scan);
   ManifoldRelabeling::Outcome manifold = manifold_step.run();
+  result.relabeled += manifold.moved;
+  const ManifoldSampling::Outcome sampled = p.sample_manifold(std::move(manifold.failing), sink);
+  result.relabeled += sampled.moved;
   const ExtraPieces extra = manifold_step.remove_extra_pieces();
   result.relabeled += extra.moved;
   p.relabeling.invalidate();
-  result.relabeled += manifold.moved;
-  result.non_manifold_left = manifold.left - extra.links_mended;
+  result.non_manifold_left = sampled.failing.size() - extra.links_mended;
   p.meter.report(sink, Phase::extracting, true);
   result.mesh = extract(p.state, result.warnings);
   p.finish(result);
