@@ -59,13 +59,15 @@ void print_stats(std::ostream& out, const v1::MeshStats& s) {
   for (const v1::LabelCertificate& c : s.certificate()) {
     std::snprintf(
         line, sizeof line,
-        "  label %u: %llu pieces (%llu touching) / image %llu; non-manifold vertices "
+        "  label %u: %llu pieces (%llu touching) / image %llu (face-connected %llu); "
+        "non-manifold vertices "
         "%llu, edges %llu, triangles %llu; 4-volume %.4g of %.4g; worst frame %+.1f %% "
         "at t = %g\n",
         c.label(), (unsigned long long)c.mesh_pieces(), (unsigned long long)c.touching_pieces(),
-        (unsigned long long)c.image_pieces(), (unsigned long long)c.non_manifold_vertices(),
-        (unsigned long long)c.non_manifold_edges(), (unsigned long long)c.non_manifold_triangles(),
-        c.volume(), c.voxel_volume(), 100 * c.worst_frame_volume_error(), c.worst_frame_time());
+        (unsigned long long)c.image_pieces(), (unsigned long long)c.image_face_pieces(),
+        (unsigned long long)c.non_manifold_vertices(), (unsigned long long)c.non_manifold_edges(),
+        (unsigned long long)c.non_manifold_triangles(), c.volume(), c.voxel_volume(),
+        100 * c.worst_frame_volume_error(), c.worst_frame_time());
     out << line;
     std::snprintf(line, sizeof line,
                   "    boundary distance, mesh to image: max %.3g, mean %.3g; image to mesh: max "

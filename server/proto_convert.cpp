@@ -86,6 +86,7 @@ void add_certificate(const refine::FidelityCertificate& c, v1::MeshStats* stats)
     out->set_mesh_pieces(l.mesh_pieces);
     out->set_touching_pieces(l.touching_pieces);
     out->set_image_pieces(l.image_pieces);
+    out->set_image_face_pieces(l.image_face_pieces);
     out->set_non_manifold_vertices(l.non_manifold_vertices);
     out->set_non_manifold_edges(l.non_manifold_edges);
     out->set_non_manifold_triangles(l.non_manifold_triangles);

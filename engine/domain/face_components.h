@@ -12,6 +12,7 @@
 namespace mesh4d::domain {
 
 struct FacePieces {
+  static constexpr std::uint32_t kNoPiece = 0xffffffffu;
   struct Piece {
     Label label = 0;
     std::size_t voxels = 0;

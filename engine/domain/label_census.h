@@ -1,7 +1,7 @@
 // What the image says each label should be, for comparing a mesh with it
-// (mesh/topology_certificate.h counts the mesh's side): per label, its face-connected pieces
-// (voxels that share a 3D face, eight neighbors in 4D), its voxels and their 4-volume, and per
-// frame its 3D volume.
+// (mesh/topology_certificate.h counts the mesh's side): per label, its pieces as the label
+// function joins them (label_pieces.h) and its face-connected pieces (voxels that share a 3D
+// face, eight neighbors in 4D), its voxels and their 4-volume, and per frame its 3D volume.
 #pragma once
 
 #include <cstddef>
@@ -16,7 +16,8 @@ struct LabelCensus {
   struct PerLabel {
     Label label = 0;
     std::size_t voxels = 0;
-    std::size_t components = 0;  // face-connected pieces
+    std::size_t components = 0;       // pieces of the label function (label_pieces.h)
+    std::size_t face_components = 0;  // face-connected pieces
     double volume = 0;           // voxels × the product of the spacings
   };
   std::vector<PerLabel> labels;  // the non-zero labels, ascending

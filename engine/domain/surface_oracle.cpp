@@ -28,8 +28,6 @@ SurfaceOracle::SurfaceOracle(const LabelImage4& image)
   voxel_size_ = std::max(std::max(s[0], s[1]), std::max(s[2], s[3]));
   min_spacing_ = std::min(std::min(s[0], s[1]), std::min(s[2], s[3]));
   cell_diagonal_ = norm(s);
-  // β by rank among the labels present (background first): 0 for the lowest, kMaxLabelOffset
-  // for the highest.
   for (int corner = 0; corner < 16; ++corner)
     corner_offset_[corner] =
         image.linear_index(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1, (corner >> 3) & 1);
@@ -49,10 +47,14 @@ SurfaceOracle::SurfaceOracle(const LabelImage4& image)
             break;
           }
       }
-  const std::vector<Label> labels = image.labels();
-  offset_.assign(labels.back() + 1u, 0.0);
-  for (std::size_t r = 0; r < labels.size(); ++r)
-    offset_[labels[r]] = kMaxLabelOffset * static_cast<double>(r) / (labels.size() - 1);
+  offset_ = label_offsets(image.labels());
+}
+
+std::vector<double> SurfaceOracle::label_offsets(const std::vector<Label>& labels) {
+  std::vector<double> offset(labels.empty() ? 1u : labels.back() + 1u, 0.0);
+  for (std::size_t r = 0; r < labels.size() && labels.size() > 1; ++r)
+    offset[labels[r]] = kMaxLabelOffset * static_cast<double>(r) / (labels.size() - 1);
+  return offset;
 }
 
 std::size_t SurfaceOracle::nearest_voxel(const Point4& x, Point4* center) const {
@@ -403,13 +405,13 @@ bool SurfaceOracle::cfp_candidates(const Point4& x, const PointFacts& known, Cfp
   for (int i = 0; i < edge_count; ++i)
     edges[i] = search_edges ? narrow(edges[i], tolerance) : edge_bracket(edges[i], tolerance);
   // A dismissal is asked about where the candidates can lie, first before the ray's walk, then
-  // about the rest of the walk as it goes, then before its crossing is halved. An edge's crossing is edge_bracket's middle, or where a
-  // search finds it when rounding put that outside its bracket: the cut function is linear
-  // along the edge (only its two voxels weigh), so within far less than the bracket's length
-  // of it; edge brackets are asked about three times as long. A ray's crossing lies between
-  // where its walk starts and ends (clipping to the image only shortens it), and a bracket's
-  // middle between its ends, also after more halving. The ray mode's fallback below needs no
-  // edges: with none, nothing is dismissed.
+  // about the rest of the walk as it goes, then before its crossing is halved. An edge's crossing
+  // is edge_bracket's middle, or where a search finds it when rounding put that outside its
+  // bracket: the cut function is linear along the edge (only its two voxels weigh), so within far
+  // less than the bracket's length of it; edge brackets are asked about three times as long. A
+  // ray's crossing lies between where its walk starts and ends (clipping to the image only shortens
+  // it), and a bracket's middle between its ends, also after more halving. The ray mode's fallback
+  // below needs no edges: with none, nothing is dismissed.
   bool edges_dropped = dismissal && edge_count > 0;
   for (int i = 0; i < edge_count && edges_dropped; ++i)
     edges_dropped =

@@ -50,6 +50,7 @@ FidelityCertificate certify(const mesh::Mesh4& mesh, const domain::LabelImage4& 
     LabelFidelity& l = by_label[per.label];
     l.label = per.label;
     l.image_pieces = per.components;
+    l.image_face_pieces = per.face_components;
     l.voxel_volume = per.volume;
   }
   std::vector<std::size_t> frames;  // those with voxels

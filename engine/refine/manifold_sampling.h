@@ -29,8 +29,8 @@ class ManifoldSampling {
 
   struct Outcome {
     int rounds = 0;
-    std::size_t points = 0;  // inserted
-    std::size_t moved = 0;   // pentatopes the relabeling moved after the insertions
+    std::size_t points = 0;                  // inserted
+    std::size_t moved = 0;                   // pentatopes the relabeling moved after the insertions
     std::vector<NonManifoldVertex> failing;  // left
   };
   /// Rounds until no (vertex, label) pair of `failing` is left, or a round inserts nothing.
