@@ -29,7 +29,7 @@ LabelImage4 blocks() {
 
 std::size_t pieces_of(const LabelImage4& image, Label l) {
   for (const auto& per : take_census(image).labels)
-    if (per.label == l) return per.components;
+    if (per.label == l) return per.face_components;  // the cleanup's connectivity
   return 0;
 }
 
