@@ -63,6 +63,7 @@ struct Flat {
   double shortest, rho_max, rho_mean, rho_std, tau_min, tau_mean, tau_std, seconds, peak_mb,
       repair_seconds;
   bool ok;
+  std::uint64_t manifold_points, manifold_rounds;  // the manifold sampling's
 };
 
 Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& params) {
@@ -105,7 +106,9 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
              r.stats.elapsed_seconds,
              status_kb("VmHWM:") / 1024.0,
              r.repair_seconds,
-             true};
+             true,
+             r.manifold_points,
+             static_cast<std::uint64_t>(r.manifold_rounds)};
     for (auto n : r.stats.insertions) out.insertions += n;
     // The certificate a job computes after refinement (not in the rate: timed on its own).
     const auto t0 = std::chrono::steady_clock::now();
@@ -170,7 +173,8 @@ bool mesh_row(const std::string& name, const domain::LabelImage4& image, double 
   *rate = f.pentatopes / f.seconds;
   std::printf(
       "| %s | %s | %g | %llu | %llu | %llu | %.2f | %.2f / %.2f / %.2f | %.4f / %.2f / %.2f | "
-      "%.2f | %.0f | %llu | %.0f | %llu | %llu | %llu | %.2f | %llu / %llu / %llu | %llu / %llu / "
+      "%.2f | %.0f | %llu | %.0f | %llu | %llu | %llu | %.2f | %llu (%llu) | %llu / %llu / %llu | "
+      "%llu / %llu / "
       "%llu | "
       "%.4f | %+.3f | %.2f / %.2f | %.2f (%.2f) | "
       "%016llx |\n",
@@ -179,7 +183,8 @@ bool mesh_row(const std::string& name, const domain::LabelImage4& image, double 
       (unsigned long long)f.vertices, f.shortest, f.rho_max, f.rho_mean, f.rho_std, f.tau_min,
       f.tau_mean, f.tau_std, f.seconds, f.pentatopes / f.seconds, (unsigned long long)f.insertions,
       f.peak_mb, (unsigned long long)f.off_surface, (unsigned long long)f.pinched,
-      (unsigned long long)f.relabeled, f.repair_seconds, (unsigned long long)f.pieces,
+      (unsigned long long)f.relabeled, f.repair_seconds, (unsigned long long)f.manifold_points,
+      (unsigned long long)f.manifold_rounds, (unsigned long long)f.pieces,
       (unsigned long long)f.touching, (unsigned long long)f.image_pieces,
       (unsigned long long)f.nm_vertices, (unsigned long long)f.nm_edges,
       (unsigned long long)f.nm_triangles, f.volume_ratio, f.worst_frame_error, f.mesh_to_image_max,
@@ -253,12 +258,13 @@ int main(int argc, char** argv) {
       "| input | rule order | δ | pentatopes | boundary tets | vertices | shortest edge | "
       "radius-edge max / mean / std | normalized volume min / mean / std | time s | "
       "pentatopes/s | insertions | peak MB | boundary vertex uses off ∂Ω | pinched triangles "
-      "| relabeled pentatopes | of the time, pinch repair s | mesh pieces / touching another / "
+      "| relabeled pentatopes | of the time, pinch repair s | manifold sampling points (rounds) "
+      "| mesh pieces / touching another / "
       "image pieces (all labels) | non-manifold vertices / edges / triangles | 4-volume / voxels "
       "| worst frame volume error | boundary distance max, mesh → image / image → mesh | "
       "certificate s (of which the distance) | mesh fingerprint "
       "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
-      "---|---|\n");
+      "---|---|---|\n");
   const auto sphere = domain::hypersphere_phantom({32, 32, 32, 32}, {1, 1, 1, 1}, 12);
   row("hypersphere r=12", sphere, 2, refine::RuleOrder::r3_first);
   row("hypersphere r=12", sphere, 2, refine::RuleOrder::paper);

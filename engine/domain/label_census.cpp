@@ -1,6 +1,5 @@
 #include "domain/label_census.h"
 
-#include "domain/face_components.h"
 #include "domain/label_pieces.h"
 
 namespace mesh4d::domain {
@@ -24,10 +23,10 @@ LabelCensus take_census(const LabelImage4& image) {
       ++per.voxels;
       census.frame_volumes[t][l] += voxel3;
     }
-  for (const FacePieces::Piece& p : face_pieces(image).pieces)
-    if (p.label != 0) ++by_label[p.label].face_components;
-  for (const FacePieces::Piece& p : label_function_pieces(image).pieces)
+  std::vector<FacePieces::Piece> face;
+  for (const FacePieces::Piece& p : label_function_pieces(image, &face).pieces)
     ++by_label[p.label].components;
+  for (const FacePieces::Piece& p : face) ++by_label[p.label].face_components;
   for (auto& [l, per] : by_label) {
     per.volume = static_cast<double>(per.voxels) * voxel3 * s[3];
     census.labels.push_back(per);

@@ -18,7 +18,7 @@ struct LabelCensus {
     std::size_t voxels = 0;
     std::size_t components = 0;       // pieces of the label function (label_pieces.h)
     std::size_t face_components = 0;  // face-connected pieces
-    double volume = 0;           // voxels × the product of the spacings
+    double volume = 0;                // voxels × the product of the spacings
   };
   std::vector<PerLabel> labels;  // the non-zero labels, ascending
   /// Each frame's time (its voxel centers' t) and each label's 3D volume in it (voxels × the

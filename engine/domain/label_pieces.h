@@ -8,11 +8,23 @@
 // the mesh of the label function must go; the certificate compares the mesh's pieces with these.
 #pragma once
 
+#include <functional>
+#include <vector>
+
 #include "domain/face_components.h"
 
 namespace mesh4d::domain {
 
 /// The pieces of the non-zero labels (background voxels get no piece: FacePieces::kNoPiece).
-FacePieces label_function_pieces(const LabelImage4& image);
+/// `face`, when given, receives the face-connected pieces of the non-zero labels.
+FacePieces label_function_pieces(const LabelImage4& image,
+                                 std::vector<FacePieces::Piece>* face = nullptr);
+
+/// Calls fn(j) for every voxel j that the label function joins directly to voxel i, which has
+/// a non-zero label: a face neighbor of that label, or a diagonal one whose block's center has
+/// it. `beta`: the offsets by label value (SurfaceOracle::label_offsets). A walk through these
+/// finds i's piece of label_function_pieces().
+void for_each_joined_neighbor(const LabelImage4& image, const std::vector<double>& beta,
+                              std::size_t i, const std::function<void(std::size_t)>& fn);
 
 }  // namespace mesh4d::domain

@@ -56,6 +56,8 @@ class SurfaceOracle {
   /// β by label value, up to the highest of `labels` (ascending, as LabelImage4::labels()):
   /// by rank, 0 for the lowest, kMaxLabelOffset for the highest.
   static std::vector<double> label_offsets(const std::vector<Label>& labels);
+  /// This image's offsets, by label value.
+  const std::vector<double>& label_offsets() const { return offset_; }
   /// Its gradient (central differences at a tenth of a voxel: exact but within that distance of
   /// a voxel-center hyperplane, where the piecewise multilinear f has a kink).
   Vec4 cut_gradient(const Point4& x, Label a, Label b) const;

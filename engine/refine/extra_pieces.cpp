@@ -16,6 +16,9 @@ using domain::Label;
 
 namespace {
 
+// How many voxels a walk may visit before it gives up (the piece then stays).
+constexpr std::size_t kWalkLimit = std::size_t{1} << 16;
+
 // The largest piece looked at, in pentatopes: the cut-off pieces seen on the patients have one
 // to three; a larger piece is a region the image may well have, and moving it would change the
 // geometry by more than a pentatope's size.
@@ -39,6 +42,7 @@ ExtraPieces ManifoldRelabeling::remove_extra_pieces() {
   ExtraPieces out;
   const auto& st = state_.tri.store();
   const auto& image = state_.oracle.image();
+  const std::vector<double>& beta = state_.oracle.label_offsets();
   // The regions' facet-connected pieces.
   support::UnionFind pieces(st.cell_slots());
   std::vector<CellId> output;
@@ -58,21 +62,10 @@ ExtraPieces ManifoldRelabeling::remove_extra_pieces() {
   for (const auto& [l, n] : count_by_label) several |= n > 1;
   if (!several) return out;
 
-  // The image's pieces of the label function, and which mesh pieces have a circumcenter in
-  // each (in a voxel of the piece's own label).
-  const domain::FacePieces image_pieces = domain::label_function_pieces(image);
-  std::unordered_map<std::uint32_t, std::vector<std::size_t>> holders;  // image piece -> roots
-  const auto image_piece_of = [&](CellId c) {
-    const std::size_t v = voxel_of(image, state_.info[c].center);
-    return image.at(v) == state_.output_label(c) ? image_pieces.piece[v]
-                                                 : domain::FacePieces::kNoPiece;
-  };
-  for (CellId c : output)
-    if (const std::uint32_t p = image_piece_of(c); p != domain::FacePieces::kNoPiece) {
-      std::vector<std::size_t>& roots = holders[p];
-      const std::size_t root = pieces.find(c);
-      if (std::find(roots.begin(), roots.end(), root) == roots.end()) roots.push_back(root);
-    }
+  // Each piece's circumcenters' voxels, and which piece holds each such voxel.
+  std::unordered_map<std::size_t, std::size_t> holder;  // voxel -> root
+  holder.reserve(output.size());
+  for (CellId c : output) holder[voxel_of(image, state_.info[c].center)] = pieces.find(c);
   // The small pieces of labels with several, smallest first; never a label's largest piece.
   std::unordered_map<Label, std::size_t> largest;  // label -> root
   for (const auto& [root, cells] : members) {
@@ -90,13 +83,27 @@ ExtraPieces ManifoldRelabeling::remove_extra_pieces() {
   for (const auto& [size, root] : order) {
     const std::vector<CellId>& cells = members[root];
     const Label l = state_.output_label(cells[0]);
-    // Does the image join this piece to another piece of its label still there?
-    bool joined = false;
+    // Does the image join this piece to another piece of its label still there? A walk through
+    // the voxels the label function joins (label_pieces.h), from those of its circumcenters.
+    std::vector<std::size_t> frontier;
+    std::unordered_set<std::size_t> seen;
     for (CellId c : cells) {
-      const std::uint32_t p = image_piece_of(c);
-      if (p == domain::FacePieces::kNoPiece) continue;
-      for (std::size_t other : holders[p]) joined |= other != root && !removed.count(other);
-      if (joined) break;
+      const std::size_t v = voxel_of(image, state_.info[c].center);
+      if (image.at(v) == l && seen.insert(v).second) frontier.push_back(v);
+    }
+    bool joined = false;
+    while (!frontier.empty() && !joined && seen.size() < kWalkLimit) {
+      const std::size_t v = frontier.back();
+      frontier.pop_back();
+      if (const auto h = holder.find(v); h != holder.end() && h->second != root &&
+                                         !removed.count(h->second) &&
+                                         state_.output_label(members[h->second][0]) == l) {
+        joined = true;
+        break;
+      }
+      domain::for_each_joined_neighbor(image, beta, v, [&](std::size_t j) {
+        if (seen.insert(j).second) frontier.push_back(j);
+      });
     }
     if (!joined) continue;
     ++out.found;

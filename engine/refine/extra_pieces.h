@@ -2,9 +2,10 @@
 // not have (docs/refinement.md, "Closed, manifold region boundaries where
 // labels meet"): where a region thins, the refinement can cut off a small piece of it that
 // touches nothing of its label, though the image joins it to another piece. Such a piece takes
-// its neighbors' label. Whether the image joins two pieces is read from the image's pieces as the
-// label function joins them (domain/label_pieces.h): one holds circumcenters of both (in voxels
-// of their label). Run after the manifold step; a
+// its neighbors' label. Whether the image joins two pieces is found in the image itself: from
+// the voxels of the piece's circumcenters, a walk through the voxels the label function joins
+// (domain/label_pieces.h) that reaches a voxel holding another piece's circumcenter. Run after
+// the manifold step; a
 // piece whose move would put a facet more than Δ/2 from ∂Ω, or a pentatope that may not move,
 // or make a link fail, stays; so do a label's largest piece and pieces of more than 64
 // pentatopes.

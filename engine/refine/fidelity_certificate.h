@@ -1,6 +1,7 @@
 // The fidelity certificate of a mesh against the image it was made from, per label: the mesh's
-// topology (mesh/topology_certificate.h) beside the image's pieces (domain/label_census.h), the region's 4-volume beside the voxels', and the worst frame's 3D
-// volume error. docs/refinement.md, "What is checked", says what each count means.
+// topology (mesh/topology_certificate.h) beside the image's pieces (domain/label_census.h), the
+// region's 4-volume beside the voxels', and the worst frame's 3D volume error. docs/refinement.md,
+// "What is checked", says what each count means.
 #pragma once
 
 #include <string>
@@ -14,7 +15,7 @@ namespace mesh4d::refine {
 struct LabelFidelity {
   domain::Label label = 0;
   std::size_t mesh_pieces = 0;
-  std::size_t touching_pieces = 0;  // mesh pieces meeting another at a vertex, edge or triangle
+  std::size_t touching_pieces = 0;    // mesh pieces meeting another at a vertex, edge or triangle
   std::size_t image_pieces = 0;       // the label function's pieces (domain/label_pieces.h)
   std::size_t image_face_pieces = 0;  // face-connected pieces of the label's voxels
   std::size_t non_manifold_vertices = 0;

@@ -171,6 +171,8 @@ RefineResult Refiner::run(ProgressSink* sink) {
   result.relabeled += manifold.moved;
   const ManifoldSampling::Outcome sampled = p.sample_manifold(std::move(manifold.failing), sink);
   result.relabeled += sampled.moved;
+  result.manifold_rounds = sampled.rounds;
+  result.manifold_points = sampled.points;
   const ExtraPieces extra = manifold_step.remove_extra_pieces();
   result.relabeled += extra.moved;
   p.relabeling.invalidate();

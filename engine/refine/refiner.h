@@ -27,6 +27,9 @@ struct RefineResult {
   std::size_t relabeled = 0;
   // (vertex, label) pairs whose link in the region's boundary is still not a 2-sphere.
   std::size_t non_manifold_left = 0;
+  // The manifold sampling's rounds and the surface points they inserted (manifold_sampling.h).
+  int manifold_rounds = 0;
+  std::size_t manifold_points = 0;
   // The parallel phases' overheads (Progress): all 0 with one thread.
   std::uint64_t rollbacks = 0;
   double contention_seconds = 0;
