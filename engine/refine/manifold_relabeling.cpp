@@ -78,7 +78,15 @@ bool ManifoldRelabeling::facet_near_surface(const std::array<VertexId, 4>& facet
   double d = std::numeric_limits<double>::infinity();
   for (VertexId v : facet) d = std::min(d, distance(st.point(v), centroid));
   if (d <= bound) return true;
-  const domain::SurfacePoint z = state_.oracle.closest_surface_point(centroid);
+  // The oracle's lower bound refuses at once; a point of ∂Ω that the ray mode (a tenth of the
+  // descent's cost) finds within the bound accepts, as the descent would (it starts from the
+  // ray's candidates and only comes nearer). Only what is left takes the descent.
+  const auto& oracle = state_.oracle;
+  if (oracle.facts(centroid).lower > bound) return false;
+  const domain::SurfacePoint r =
+      oracle.closest_surface_point(centroid, domain::SurfaceOracle::CfpMode::ray);
+  if (r.inner != r.outer && distance(r.point, centroid) <= bound) return true;
+  const domain::SurfacePoint z = oracle.closest_surface_point(centroid);
   return z.inner != z.outer && distance(z.point, centroid) <= bound;
 }
 
