@@ -132,6 +132,22 @@ LabelImage4 island_phantom(const Dims4& dims, const Vec4& spacing) {
   return image;
 }
 
+LabelImage4 thin_plate_phantom(const Dims4& dims, const Vec4& spacing) {
+  LabelImage4 image(dims, spacing);
+  const double c[4] = {10, 12, 12, 12};
+  for (std::size_t t = 0; t < dims[3]; ++t)
+    for (std::size_t z = 0; z < dims[2]; ++z)
+      for (std::size_t y = 0; y < dims[1]; ++y)
+        for (std::size_t x = 0; x < dims[0]; ++x) {
+          const double p[4] = {double(x), double(y), double(z), double(t)};
+          double r2 = 0;
+          for (int a = 0; a < 4; ++a) r2 += (p[a] - c[a]) * (p[a] - c[a]);
+          const bool plate = x == 19 && y >= 7 && y < 17 && z >= 7 && z < 17 && t >= 9 && t < 15;
+          if (r2 < 36 || plate) image.set(x, y, z, t, 1);
+        }
+  return image;
+}
+
 LabelImage4 moving_junction_phantom(const Dims4& dims, const Vec4& spacing) {
   const Point4 c = center_of(dims, spacing);
   const double r = 9 * spacing[0];
@@ -147,8 +163,8 @@ LabelImage4 moving_junction_phantom(const Dims4& dims, const Vec4& spacing) {
 }
 
 std::vector<std::string> phantom_names() {
-  return {"hypersphere",  "hypertorus",     "ventricle", "blobs",          "thin-wall",
-          "checkerboard", "corner-contact", "island",    "moving-junction"};
+  return {"hypersphere",  "hypertorus",     "ventricle", "blobs",      "thin-wall",
+          "checkerboard", "corner-contact", "island",    "thin-plate", "moving-junction"};
 }
 
 LabelImage4 make_phantom(const std::string& name) {
@@ -160,6 +176,7 @@ LabelImage4 make_phantom(const std::string& name) {
   if (name == "checkerboard") return checkerboard_phantom();
   if (name == "corner-contact") return corner_contact_phantom();
   if (name == "island") return island_phantom();
+  if (name == "thin-plate") return thin_plate_phantom();
   if (name == "moving-junction") return moving_junction_phantom();
   std::string known;
   for (const std::string& n : phantom_names()) known += (known.empty() ? "" : ", ") + n;

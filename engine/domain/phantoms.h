@@ -53,13 +53,19 @@ LabelImage4 corner_contact_phantom(const Dims4& dims = {24, 24, 24, 24},
 LabelImage4 island_phantom(const Dims4& dims = {24, 24, 24, 24},
                            const Vec4& spacing = {1, 1, 1, 1});
 
+/// A ball of label 1 (radius 6) and, apart from it, a plate of label 1 one voxel thick (10 × 10
+/// voxels in y and z, 6 frames): a piece of the image thinner than any Δ above a voxel, which
+/// no circumball of the rules fits in.
+LabelImage4 thin_plate_phantom(const Dims4& dims = {24, 24, 24, 24},
+                               const Vec4& spacing = {1, 1, 1, 1});
+
 /// A 3D ball (radius 9) cut into three labels by three half-planes through its axis, which
 /// rotate by a third of a turn over the time span: a three-label junction moving in time.
 LabelImage4 moving_junction_phantom(const Dims4& dims = {24, 24, 24, 24},
                                     const Vec4& spacing = {1, 1, 1, 1});
 
 /// The phantoms by name: hypersphere, hypertorus, ventricle, blobs, thin-wall, checkerboard,
-/// corner-contact, island, moving-junction.
+/// corner-contact, island, thin-plate, moving-junction.
 std::vector<std::string> phantom_names();
 /// Throws std::invalid_argument for an unknown name.
 LabelImage4 make_phantom(const std::string& name);

@@ -21,13 +21,13 @@ struct Meshed {
   FidelityCertificate certificate;
 };
 
-Meshed mesh_phantom(const std::string& name) {
+Meshed mesh_phantom(const std::string& name, double delta = 2.5) {
   domain::LabelImage4 image = domain::make_phantom(name);
   domain::validate_and_close(image);
   domain::remove_small_pieces(image, domain::kDefaultMinIslandVoxels);
   const domain::SurfaceOracle oracle(image);
   RefineParams params;
-  params.delta = 2.5;
+  params.delta = delta;
   Meshed m{refine(oracle, params), {}};
   m.certificate = certify(m.result.mesh, image);
   for (const LabelFidelity& l : m.certificate.labels)
@@ -44,8 +44,7 @@ Meshed mesh_phantom(const std::string& name) {
 
 class FidelityPhantom : public ::testing::TestWithParam<const char*> {};
 
-TEST_P(FidelityPhantom, EveryLabelIsItsImagePiecesAndAManifold) {
-  const Meshed m = mesh_phantom(GetParam());
+void expect_faithful(const Meshed& m) {
   ASSERT_FALSE(m.certificate.labels.empty());
   for (const LabelFidelity& l : m.certificate.labels) {
     SCOPED_TRACE("label " + std::to_string(l.label));
@@ -58,6 +57,22 @@ TEST_P(FidelityPhantom, EveryLabelIsItsImagePiecesAndAManifold) {
   EXPECT_TRUE(m.certificate.defects().empty());
   expect_only_manifold_warning(m.result);
   EXPECT_EQ(m.result.non_manifold_left, 0u);
+}
+
+TEST_P(FidelityPhantom, EveryLabelIsItsImagePiecesAndAManifold) {
+  expect_faithful(mesh_phantom(GetParam()));
+}
+
+// The thin plate: at δ = 2.5 the rules meet the plate and mesh it apart from the ball. At δ = 4
+// no circumball of the rules fits in a plate one voxel thick and the mesh has the ball alone;
+// the certificate must say so (a piece missing), and the job's warnings with it.
+TEST(FidelityPhantomThinPlate, IsMeshedAtAFineDeltaAndCertifiedMissingAtACoarseOne) {
+  expect_faithful(mesh_phantom("thin-plate", 2.5));
+  const Meshed coarse = mesh_phantom("thin-plate", 4);
+  ASSERT_EQ(coarse.certificate.labels.size(), 1u);
+  EXPECT_EQ(coarse.certificate.labels[0].image_pieces, 2u);
+  EXPECT_EQ(coarse.certificate.labels[0].mesh_pieces, 1u);
+  EXPECT_FALSE(coarse.certificate.defects().empty());
 }
 
 // Checkerboard: the cleanup fills the one-voxel pockets between the diagonal contacts (the
