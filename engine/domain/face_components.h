@@ -22,7 +22,8 @@ struct FacePieces {
   std::vector<std::uint32_t> piece;  // by voxel: its piece's index
 };
 
-FacePieces face_pieces(const LabelImage4& image);
+/// `with_background` false: only the non-zero labels' pieces (background voxels: kNoPiece).
+FacePieces face_pieces(const LabelImage4& image, bool with_background = true);
 
 /// Calls fn(j) for each face neighbor j of voxel i inside the image.
 template <class Fn>

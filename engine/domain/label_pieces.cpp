@@ -10,48 +10,6 @@ namespace mesh4d::domain {
 
 namespace {
 
-// The face-connected pieces of the non-zero labels only (the background, most of a heart image,
-// is never flooded), and the bounding box of their voxels.
-FacePieces foreground_face_pieces(const LabelImage4& image, std::array<std::size_t, 4>& lo,
-                                  std::array<std::size_t, 4>& hi, bool* background) {
-  const auto& d = image.dims();
-  const std::size_t stride[4] = {1, d[0], d[0] * d[1], d[0] * d[1] * d[2]};
-  FacePieces out;
-  out.piece.assign(image.voxel_count(), FacePieces::kNoPiece);
-  lo = d, hi = {};
-  std::vector<std::size_t> frontier;
-  *background = false;
-  for (std::size_t seed = 0; seed < image.voxel_count(); ++seed) {
-    if (image.at(seed) == 0) *background = true;
-    if (image.at(seed) == 0 || out.piece[seed] != FacePieces::kNoPiece) continue;
-    const auto id = static_cast<std::uint32_t>(out.pieces.size());
-    FacePieces::Piece p;
-    p.label = image.at(seed);
-    out.piece[seed] = id;
-    frontier.assign(1, seed);
-    while (!frontier.empty()) {
-      const std::size_t i = frontier.back();
-      frontier.pop_back();
-      ++p.voxels;
-      const std::size_t c[4] = {i % d[0], i / d[0] % d[1], i / stride[2] % d[2], i / stride[3]};
-      for (int a = 0; a < 4; ++a) {
-        p.touches_border |= c[a] == 0 || c[a] + 1 == d[a];
-        lo[a] = std::min(lo[a], c[a]), hi[a] = std::max(hi[a], c[a]);
-        const auto visit = [&](std::size_t j) {
-          if (out.piece[j] == FacePieces::kNoPiece && image.at(j) == p.label) {
-            out.piece[j] = id;
-            frontier.push_back(j);
-          }
-        };
-        if (c[a] > 0) visit(i - stride[a]);
-        if (c[a] + 1 < d[a]) visit(i + stride[a]);
-      }
-    }
-    out.pieces.push_back(p);
-  }
-  return out;
-}
-
 // Set bits of 0..15.
 constexpr int kBits[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
 
@@ -82,11 +40,27 @@ Label center_label(const std::array<Label, 16>& label, int span, const std::vect
 
 FacePieces label_function_pieces(const LabelImage4& image,
                                  std::vector<FacePieces::Piece>* face_out) {
-  std::array<std::size_t, 4> lo, hi;
-  bool background = false;
-  FacePieces face = foreground_face_pieces(image, lo, hi, &background);
+  // The foreground's pieces (the background, most of a heart image, is never flooded).
+  FacePieces face = face_pieces(image, false);
   if (face.pieces.empty()) return face;
   const auto& d = image.dims();
+  // Only blocks with a foreground voxel can join anything: the foreground's bounding box.
+  std::array<std::size_t, 4> lo = d, hi{};
+  bool background = false;
+  {
+    std::size_t c[4], i = 0;
+    for (c[3] = 0; c[3] < d[3]; ++c[3])
+      for (c[2] = 0; c[2] < d[2]; ++c[2])
+        for (c[1] = 0; c[1] < d[1]; ++c[1])
+          for (c[0] = 0; c[0] < d[0]; ++c[0], ++i) {
+            if (face.piece[i] == FacePieces::kNoPiece) {
+              background = true;
+              continue;
+            }
+            for (int a = 0; a < 4; ++a)
+              lo[a] = std::min(lo[a], c[a]), hi[a] = std::max(hi[a], c[a]);
+          }
+  }
   // The labels present, as LabelImage4::labels() lists them (without another pass).
   std::vector<Label> labels;
   if (background) labels.push_back(0);
