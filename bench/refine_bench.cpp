@@ -272,8 +272,8 @@ int main(int argc, char** argv) {
   row("ventricle 100x100x44x15", ventricle, 5, refine::RuleOrder::r3_first);
   row("ventricle 100x100x44x15", ventricle, 5, refine::RuleOrder::paper);
   // The phantoms that provoke the certificate's defects (24⁴ voxels of 1 unit), at δ 2.5.
-  for (const char* name :
-       {"thin-wall", "checkerboard", "corner-contact", "island", "thin-plate", "moving-junction"})
+  for (const char* name : {"thin-wall", "checkerboard", "corner-contact", "island", "thin-plate",
+                           "moving-junction", "diagonal-island", "thin-bridge"})
     row(name, domain::make_phantom(name), 2.5, refine::RuleOrder::r3_first);
 
   const std::string dir = MESH4D_HEART_DATA_DIR;

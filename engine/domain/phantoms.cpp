@@ -162,9 +162,44 @@ LabelImage4 moving_junction_phantom(const Dims4& dims, const Vec4& spacing) {
   });
 }
 
+LabelImage4 diagonal_island_phantom(const Dims4& dims, const Vec4& spacing) {
+  LabelImage4 image(dims, spacing);
+  for (std::size_t t = 2; t + 2 < dims[3]; ++t)
+    for (std::size_t z = 2; z + 2 < dims[2]; ++z)
+      for (std::size_t y = 2; y + 2 < dims[1]; ++y)
+        for (std::size_t x = 2; x + 2 < dims[0]; ++x) {
+          const bool wall = x >= 13 && y >= 12 && z >= 12;
+          // Its corner voxel (12, 11, 11, t) meets the wall's (13, 12, 12, t) across a block
+          // of eight voxels of which six are label 1.
+          const bool island =
+              x >= 9 && x <= 12 && y >= 8 && y <= 11 && z >= 8 && z <= 11 && t >= 4 && t <= 19;
+          image.set(x, y, z, t, wall || island ? 2 : 1);
+        }
+  return image;
+}
+
+LabelImage4 thin_bridge_phantom(const Dims4& dims, const Vec4& spacing) {
+  LabelImage4 image(dims, spacing);
+  for (std::size_t t = 0; t < dims[3]; ++t)
+    for (std::size_t z = 0; z < dims[2]; ++z)
+      for (std::size_t y = 0; y < dims[1]; ++y)
+        for (std::size_t x = 0; x < dims[0]; ++x) {
+          const double p[4] = {double(x), double(y), double(z), double(t)};
+          const double big[4] = {8, 12, 12, 12}, small[4] = {18, 12, 12, 12};
+          double r2_big = 0, r2_small = 0;
+          for (int a = 0; a < 4; ++a)
+            r2_big += (p[a] - big[a]) * (p[a] - big[a]),
+                r2_small += (p[a] - small[a]) * (p[a] - small[a]);
+          const bool bar = x >= 8 && x <= 18 && y == 12 && z == 12 && t >= 10 && t < 14;
+          if (r2_big < 36 || r2_small < 9 || bar) image.set(x, y, z, t, 1);
+        }
+  return image;
+}
+
 std::vector<std::string> phantom_names() {
-  return {"hypersphere",  "hypertorus",     "ventricle", "blobs",      "thin-wall",
-          "checkerboard", "corner-contact", "island",    "thin-plate", "moving-junction"};
+  return {"hypersphere", "hypertorus",      "ventricle",       "blobs",
+          "thin-wall",   "checkerboard",    "corner-contact",  "island",
+          "thin-plate",  "moving-junction", "diagonal-island", "thin-bridge"};
 }
 
 LabelImage4 make_phantom(const std::string& name) {
@@ -178,6 +213,8 @@ LabelImage4 make_phantom(const std::string& name) {
   if (name == "island") return island_phantom();
   if (name == "thin-plate") return thin_plate_phantom();
   if (name == "moving-junction") return moving_junction_phantom();
+  if (name == "diagonal-island") return diagonal_island_phantom();
+  if (name == "thin-bridge") return thin_bridge_phantom();
   std::string known;
   for (const std::string& n : phantom_names()) known += (known.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown phantom '" + name + "' (known: " + known + ")");

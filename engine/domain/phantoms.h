@@ -64,8 +64,22 @@ LabelImage4 thin_plate_phantom(const Dims4& dims = {24, 24, 24, 24},
 LabelImage4 moving_junction_phantom(const Dims4& dims = {24, 24, 24, 24},
                                     const Vec4& spacing = {1, 1, 1, 1});
 
+/// A block of label 2 (4 × 4 × 4 voxels, 16 frames) in label 1 that meets another region of
+/// label 2, a wall's corner, only diagonally (voxel edges and corners across x, y and z, in
+/// every frame) where most of each block is label 1: two image pieces with a gap near the
+/// corners far thinner than Δ, which the mesh must keep apart (a myocardial island near the
+/// wall, as on the patients).
+LabelImage4 diagonal_island_phantom(const Dims4& dims = {24, 24, 24, 24},
+                                    const Vec4& spacing = {1, 1, 1, 1});
+
+/// A ball of label 1 (radius 6) and a small one (radius 3) joined by a bar one voxel thick in
+/// y and z over four frames: one image piece whose bridge is far thinner than Δ, so the mesh
+/// can cut the small ball off.
+LabelImage4 thin_bridge_phantom(const Dims4& dims = {24, 24, 24, 24},
+                                const Vec4& spacing = {1, 1, 1, 1});
+
 /// The phantoms by name: hypersphere, hypertorus, ventricle, blobs, thin-wall, checkerboard,
-/// corner-contact, island, thin-plate, moving-junction.
+/// corner-contact, island, thin-plate, moving-junction, diagonal-island, thin-bridge.
 std::vector<std::string> phantom_names();
 /// Throws std::invalid_argument for an unknown name.
 LabelImage4 make_phantom(const std::string& name);

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "domain/feature_transform.h"
+#include "domain/label_pieces.h"
 
 namespace mesh4d::domain {
 namespace {
@@ -48,6 +49,7 @@ SurfaceOracle::SurfaceOracle(const LabelImage4& image)
           }
       }
   offset_ = label_offsets(image.labels());
+  pieces_ = label_function_pieces(image);
 }
 
 std::vector<double> SurfaceOracle::label_offsets(const std::vector<Label>& labels) {

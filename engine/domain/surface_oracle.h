@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "domain/face_components.h"
 #include "domain/label_image.h"
 #include "domain/uniform_cells.h"
 
@@ -58,6 +59,9 @@ class SurfaceOracle {
   static std::vector<double> label_offsets(const std::vector<Label>& labels);
   /// This image's offsets, by label value.
   const std::vector<double>& label_offsets() const { return offset_; }
+  /// The image's pieces as the label function joins them (label_pieces.h), read once with the
+  /// feature transform: the refiner matches its regions' pieces with them.
+  const FacePieces& pieces() const { return pieces_; }
   /// Its gradient (central differences at a tenth of a voxel: exact but within that distance of
   /// a voxel-center hyperplane, where the piecewise multilinear f has a kink).
   Vec4 cut_gradient(const Point4& x, Label a, Label b) const;
@@ -126,9 +130,10 @@ class SurfaceOracle {
   /// returns), in units of the smallest spacing.
   static constexpr double kRankTolerance = 1.0 / 32;
 
-  /// Bytes held by the oracle (the feature transform).
+  /// Bytes held by the oracle (the feature transform and the pieces).
   std::size_t memory_bytes() const {
-    return feature_.size() * sizeof(std::uint32_t) + uniform_.memory_bytes();
+    return (feature_.size() + pieces_.piece.size()) * sizeof(std::uint32_t) +
+           uniform_.memory_bytes();
   }
 
  private:
@@ -206,7 +211,8 @@ class SurfaceOracle {
   const LabelImage4& image_;
   std::vector<std::uint32_t> feature_;
   UniformCells uniform_;
-  std::vector<double> offset_;     // β by label value
+  std::vector<double> offset_;  // β by label value
+  FacePieces pieces_;
   std::size_t corner_offset_[16];  // linear index of each of a cell's corners from its first
   double voxel_size_;              // the largest spacing: the scale of search steps
   double min_spacing_;             // the smallest: the scale of tolerances

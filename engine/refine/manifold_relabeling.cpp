@@ -30,7 +30,6 @@ constexpr std::size_t kMaxBallMoves = 32;
 // How far from ∂Ω (in Δ) the centroid of a facet that a move puts on the boundary may lie: the
 // bound the tests hold every boundary to.
 constexpr double kMaxSag = 0.5;
-constexpr long kNotAllowed = std::numeric_limits<long>::min();
 // Detours: how many failing links the first move may add, how many such moves are tried per
 // failing pair, and how deep the mending of what they broke goes.
 constexpr long kDetourLoss = 2;
@@ -137,17 +136,17 @@ long ManifoldRelabeling::gain_of(const std::vector<Move>& moves) {
   return gain;
 }
 
-bool ManifoldRelabeling::acceptable(const std::vector<Move>& moves) {
+bool ManifoldRelabeling::acceptable(const std::vector<Move>& moves, bool pinches_mended) {
   // A move may trade failing vertices for a pinched triangle (whose vertices failed already),
   // or put a facet far from ∂Ω on the boundary.
   std::vector<CellId> cells;
   for (const Move& m : moves) cells.push_back(m.cell);
-  const std::size_t pinched_before = scan_.pinches_on(cells).size();
+  const std::size_t pinched_before = pinches_mended ? 0 : scan_.pinches_on(cells).size();
   std::vector<Label> old;
   for (const Move& m : moves)
     old.push_back(state_.output_label(m.cell)), state_.set_label(m.cell, m.to);
-  const bool ok =
-      scan_.pinches_on(cells).size() <= pinched_before && new_boundary_near_surface(moves, old);
+  const bool ok = (pinches_mended || scan_.pinches_on(cells).size() <= pinched_before) &&
+                  new_boundary_near_surface(moves, old);
   for (std::size_t i = moves.size(); i-- > 0;) state_.set_label(moves[i].cell, old[i]);
   return ok;
 }

@@ -20,12 +20,14 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <limits>
 #include <map>
 #include <unordered_map>
 #include <vector>
 
-#include "refine/extra_pieces.h"
 #include "refine/manifold_scan.h"
+#include "refine/piece_matching.h"
 #include "refine/pinch_scan.h"
 
 namespace mesh4d::refine {
@@ -40,20 +42,30 @@ class ManifoldRelabeling {
   };
   /// Over every boundary vertex, or only those `around` (the others' links are known to pass).
   Outcome run(const std::vector<mesh4d::VertexId>* around = nullptr);
-  /// After run(): pieces of a label that share an image piece with a larger piece of the label
-  /// take their neighbors' label where the moves are allowed and make no link fail
-  /// (extra_pieces.cpp, extra_pieces.h).
-  ExtraPieces remove_extra_pieces();
+  /// After run(): each region's pieces matched with the image's (piece_matching.h): a piece
+  /// the image joins to another is removed or bridged, and one the image splits is cut.
+  PieceMatching match_image_pieces();
 
  private:
   struct Move {
     delaunay::CellId cell;
     domain::Label to;
   };
+  // gain_of() of moves of which one may not move.
+  static constexpr long kNotAllowed = std::numeric_limits<long>::min();
   // One failing pair: the best moves found around it, applied, and how many failing pairs they
   // mended in all to *gained; false when none helps. depth > 0: a move that mends f but breaks
   // others may be followed by repairs of those, depth - 1 levels down.
   bool repair(const NonManifoldVertex& f, int depth, long* gained);
+  // Whether a walk through `label`'s pentatopes from `from` meets one where `goal` holds (or
+  // walks too far to tell); piece_matching.cpp.
+  bool reaches(const std::vector<delaunay::CellId>& from, domain::Label label,
+               const std::function<bool(delaunay::CellId)>& goal) const;
+  // Applies `moves` when they may move, pinch nothing more and keep the new boundary near ∂Ω.
+  // Links they break are mended by run() around them; they are undone (with the mending)
+  // unless no more links fail than before and `done` holds after them.
+  bool apply_mended(const std::vector<Move>& moves, const std::function<bool()>& done,
+                    PieceMatching& out);
   // Applies `moves`, journaled so that undo_to() can take them back.
   void apply(const std::vector<Move>& moves);
   void undo_to(std::size_t journal_mark, std::size_t touched_mark);
@@ -65,8 +77,10 @@ class ManifoldRelabeling {
                     bool current);
   // How many failing pairs `moves` removes; the least long when one of them may not move.
   long gain_of(const std::vector<Move>& moves);
-  // Whether `moves` pinch no triangle more and keep their new boundary facets near ∂Ω.
-  bool acceptable(const std::vector<Move>& moves);
+  // Whether `moves` pinch no triangle more and keep their new boundary facets near ∂Ω; with
+  // `pinches_mended`, only the latter (a pinched triangle fails its vertices' links, which the
+  // caller then requires mended).
+  bool acceptable(const std::vector<Move>& moves, bool pinches_mended = false);
   // Whether every facet that `moves` (applied; `old` their labels before) put on a region's
   // boundary has its centroid within kMaxSag·Δ of ∂Ω.
   bool new_boundary_near_surface(const std::vector<Move>& moves,

@@ -7,6 +7,8 @@
 //   pinch_scan, facet_log, pinch_repair     pinches where labels meet, sampled away
 //   relabeling         the pinches left, closed by moving a few pentatopes to a neighbor label
 //   manifold_scan, manifold_relabeling   every region's boundary a manifold at each vertex
+//   manifold_sampling  ∂Ω sampled more where no relabeling mends a vertex's link
+//   piece_matching     each region's pieces those of the image's label
 //   extraction         the output mesh
 #include "refine/refiner.h"
 
@@ -173,10 +175,10 @@ RefineResult Refiner::run(ProgressSink* sink) {
   result.relabeled += sampled.moved;
   result.manifold_rounds = sampled.rounds;
   result.manifold_points = sampled.points;
-  const ExtraPieces extra = manifold_step.remove_extra_pieces();
-  result.relabeled += extra.moved;
+  const PieceMatching matched = manifold_step.match_image_pieces();
+  result.relabeled += matched.moved;
   p.relabeling.invalidate();
-  result.non_manifold_left = sampled.failing.size() - extra.links_mended;
+  result.non_manifold_left = sampled.failing.size() - matched.links_mended;
   p.meter.report(sink, Phase::extracting, true);
   result.mesh = extract(p.state, result.warnings);
   p.finish(result);

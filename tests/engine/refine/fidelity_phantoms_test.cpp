@@ -75,6 +75,23 @@ TEST(FidelityPhantomThinPlate, IsMeshedAtAFineDeltaAndCertifiedMissingAtACoarseO
   EXPECT_FALSE(coarse.certificate.defects().empty());
 }
 
+// Where the mesh's pieces do not match the image's, the piece matching mends them
+// (refine/piece_matching.h). The diagonal island: at δ = 3 the rules join the island to the
+// wall across the gap near their diagonal contacts, and the layer where they meet is cut. The
+// thin bridge: at δ = 2.5 no circumball of the rules fits in the bar and the small ball is cut
+// off; a bridge of pentatopes joins it again. Both are two pieces apart on the label function's
+// reading of their diagonal contacts (diagonal island) or one (thin bridge).
+TEST(FidelityPhantomPieceMatching, JoinsWhatTheImageJoinsAndCutsWhatItSplits) {
+  const Meshed island = mesh_phantom("diagonal-island", 3);
+  ASSERT_EQ(island.certificate.labels.size(), 2u);
+  EXPECT_EQ(island.certificate.labels[1].image_pieces, 2u);
+  expect_faithful(island);
+  const Meshed bridge = mesh_phantom("thin-bridge", 2.5);
+  ASSERT_EQ(bridge.certificate.labels.size(), 1u);
+  EXPECT_EQ(bridge.certificate.labels[0].image_pieces, 1u);
+  expect_faithful(bridge);
+}
+
 // Checkerboard: the cleanup fills the one-voxel pockets between the diagonal contacts (the
 // label function would join them anyway: label 1 wins its ties with the background). Island:
 // the cleanup removes the speck and fills the hole. Thin wall: one voxel thick at δ = 2.5, its
@@ -83,7 +100,8 @@ TEST(FidelityPhantomThinPlate, IsMeshedAtAFineDeltaAndCertifiedMissingAtACoarseO
 // manifold sampling's points close.
 INSTANTIATE_TEST_SUITE_P(Phantoms, FidelityPhantom,
                          ::testing::Values("corner-contact", "moving-junction", "island",
-                                           "checkerboard", "thin-wall"),
+                                           "checkerboard", "thin-wall", "diagonal-island",
+                                           "thin-bridge"),
                          [](const auto& param_info) {
                            std::string n = param_info.param;
                            for (char& c : n)

@@ -1,0 +1,345 @@
+#include "refine/piece_matching.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "refine/manifold_relabeling.h"
+#include "support/union_find.h"
+
+namespace mesh4d::refine {
+
+using delaunay::CellId;
+using domain::FacePieces;
+using domain::Label;
+
+namespace {
+
+// The largest piece that may take its neighbors' label, in pentatopes: the cut-off pieces seen
+// on the patients have one to three; moving a larger one would change the geometry by more than
+// a pentatope's size (it is bridged instead).
+constexpr std::size_t kMaxRemoved = 64;
+// The most pentatopes a bridge takes, and how many bridges are weighed per piece.
+constexpr int kMaxBridge = 8;
+constexpr std::size_t kBridgesWeighed = 16;
+// How deep a cut goes, in layers of pentatopes; how far a walk (the search for a bridge, the
+// check that a cut separates) goes before it gives up.
+constexpr int kMaxCutLayers = 3;
+constexpr std::size_t kWalkLimit = std::size_t{1} << 15;
+// Passes over the pieces (each acts on pieces that no earlier action of the pass touched).
+constexpr int kPasses = 3;
+
+// The voxel nearest to p, clamped to the image.
+std::size_t voxel_of(const domain::LabelImage4& image, const Point4& p) {
+  const auto u = image.to_index(p);
+  std::size_t c[4];
+  for (int a = 0; a < 4; ++a) {
+    const double r = std::round(u[a]);
+    const double hi = static_cast<double>(image.dims()[a] - 1);
+    c[a] = static_cast<std::size_t>(std::clamp(r, 0.0, hi));
+  }
+  return image.linear_index(c[0], c[1], c[2], c[3]);
+}
+
+// The regions' facet-connected pieces, and the image piece each pentatope stands for.
+struct RegionPieces {
+  explicit RegionPieces(const RefinementState& state) : found(state.tri.store().cell_slots()) {
+    const auto& st = state.tri.store();
+    const auto& image = state.oracle.image();
+    const FacePieces& pieces = state.oracle.pieces();
+    image_piece.assign(st.cell_slots(), FacePieces::kNoPiece);
+    std::vector<CellId> output;
+    for (CellId c = 0; c < st.cell_slots(); ++c) {
+      if (!st.is_live(c)) continue;
+      const Label l = state.output_label(c);
+      if (l == 0) continue;
+      output.push_back(c);
+      const std::size_t v = voxel_of(image, state.info[c].center);
+      if (image.at(v) == l) image_piece[c] = pieces.piece[v];
+      for (CellId n : st.cell(c).n)
+        if (n < c && st.is_live(n) && state.output_label(n) == l) found.join(c, n);
+    }
+    for (CellId c : output) members[found.find(c)].push_back(c);
+    // Each image piece's owner: the piece with the most pentatopes standing for it.
+    std::unordered_map<std::uint32_t, std::pair<std::size_t, std::size_t>> best;  // -> (n, root)
+    for (const auto& [root, cells] : members) {
+      std::unordered_map<std::uint32_t, std::size_t> count;
+      for (CellId c : cells)
+        if (image_piece[c] != FacePieces::kNoPiece) ++count[image_piece[c]];
+      for (const auto& [p, n] : count) {
+        auto [it, inserted] = best.try_emplace(p, n, root);
+        if (!inserted &&
+            (n > it->second.first || (n == it->second.first && root < it->second.second)))
+          it->second = {n, root};
+      }
+      auto& d = dominant[root];
+      d = FacePieces::kNoPiece;
+      std::size_t most = 0;
+      for (const auto& [p, n] : count)
+        if (n > most || (n == most && p < d)) most = n, d = p;
+    }
+    for (const auto& [p, owner] : best) owned[owner.second].push_back(p);
+  }
+
+  support::UnionFind found;
+  std::vector<std::uint32_t> image_piece;                             // by cell
+  std::unordered_map<std::size_t, std::vector<CellId>> members;       // root -> its pentatopes
+  std::unordered_map<std::size_t, std::uint32_t> dominant;            // root -> most stood for
+  std::unordered_map<std::size_t, std::vector<std::uint32_t>> owned;  // root -> image pieces
+};
+
+}  // namespace
+
+// Whether a walk through `label`'s pentatopes from `from` meets one for which `goal` holds.
+bool ManifoldRelabeling::reaches(const std::vector<CellId>& from, Label label,
+                                 const std::function<bool(CellId)>& goal) const {
+  const auto& st = state_.tri.store();
+  std::unordered_set<CellId> seen;
+  std::vector<CellId> frontier;
+  for (CellId c : from)
+    if (state_.output_label(c) == label && seen.insert(c).second) frontier.push_back(c);
+  while (!frontier.empty()) {
+    const CellId c = frontier.back();
+    frontier.pop_back();
+    if (goal(c) || seen.size() > kWalkLimit) return true;
+    for (CellId n : st.cell(c).n)
+      if (st.is_live(n) && state_.output_label(n) == label && seen.insert(n).second)
+        frontier.push_back(n);
+  }
+  return false;
+}
+
+bool ManifoldRelabeling::apply_mended(const std::vector<Move>& moves,
+                                      const std::function<bool()>& done, PieceMatching& out) {
+  stars_.clear();
+  current_.clear();
+  const long gain = gain_of(moves);
+  // Pinches the moves make fail their vertices' links, which must then be mended.
+  if (gain == kNotAllowed || !acceptable(moves, gain < 0)) return false;
+  std::vector<Label> labels;
+  for (const Move& m : moves) labels.push_back(m.to), labels.push_back(state_.output_label(m.cell));
+  std::sort(labels.begin(), labels.end());
+  labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
+  const std::size_t before = static_cast<std::size_t>(failing_over(moves, labels, true));
+  // The labels as they were, for the undo (the manifold step's moves are not journaled).
+  std::vector<std::pair<CellId, Label>> saved;
+  if (gain < 0)
+    for (CellId c = 0; c < state_.tri.store().cell_slots(); ++c)
+      if (state_.tri.store().is_live(c)) saved.push_back({c, state_.output_label(c)});
+  std::vector<VertexId> around;
+  for (const Move& m : moves) {
+    if (gain >= 0) saved.push_back({m.cell, state_.output_label(m.cell)});
+    state_.set_label(m.cell, m.to);
+    for (VertexId v : state_.tri.store().cell(m.cell).v) around.push_back(v);
+  }
+  std::size_t moved = moves.size();
+  bool kept = done();
+  if (kept && gain < 0) {
+    // Links the moves broke: the manifold step mends them, or all is undone.
+    std::sort(around.begin(), around.end());
+    around.erase(std::unique(around.begin(), around.end()), around.end());
+    const Outcome mended = run(&around);
+    moved += mended.moved;
+    kept = mended.failing.size() <= before && done();
+    if (kept) out.links_mended += before - mended.failing.size();
+  }
+  stars_.clear();
+  current_.clear();
+  if (!kept) {
+    for (const auto& [c, l] : saved)
+      if (state_.output_label(c) != l) state_.set_label(c, l);
+    return false;
+  }
+  out.links_mended += static_cast<std::size_t>(std::max(gain, 0L));
+  out.moved += moved;
+  return true;
+}
+
+PieceMatching ManifoldRelabeling::match_image_pieces() {
+  PieceMatching out;
+  const auto& st = state_.tri.store();
+  // The label most of c's neighbors have other than `leaving`, the moved ones as they will be.
+  const auto neighbors_label = [&](CellId c, Label leaving,
+                                   const std::unordered_map<CellId, Label>& moving) {
+    std::unordered_map<Label, int> votes;
+    for (CellId n : st.cell(c).n) {
+      const auto m = moving.find(n);
+      const Label l = m != moving.end() ? m->second : state_.output_label(n);
+      if (l != leaving) ++votes[l];
+    }
+    int best = 0;
+    Label to = leaving;
+    for (const auto& [label, n] : votes)
+      if (n > best || (n == best && label < to)) best = n, to = label;
+    return to;
+  };
+  // Every pentatope of `cells` to its neighbors' label (those enclosed by the piece's own label
+  // only, none of which the callers move, to the background).
+  const auto away = [&](const std::vector<CellId>& cells, Label l) {
+    std::vector<Move> moves;
+    const std::unordered_set<CellId> inside(cells.begin(), cells.end());
+    for (CellId c : cells) {
+      std::unordered_map<Label, int> votes;
+      for (CellId n : st.cell(c).n)
+        if (!inside.count(n)) ++votes[state_.output_label(n)];
+      int best = 0;
+      Label to = l;
+      for (const auto& [label, n] : votes)
+        if (label != l && (n > best || (n == best && label < to))) best = n, to = label;
+      moves.push_back({c, to == l ? Label{0} : to});
+    }
+    return moves;
+  };
+
+  for (int pass = 0; pass < kPasses; ++pass) {
+    RegionPieces pieces(state_);
+    std::unordered_set<std::size_t> touched;  // roots acted on in this pass
+    std::size_t actions = 0;
+    std::unordered_map<Label, std::size_t> largest;  // label -> root
+    for (const auto& [root, cells] : pieces.members) {
+      const Label l = state_.output_label(cells[0]);
+      const auto [it, inserted] = largest.try_emplace(l, root);
+      if (!inserted && pieces.members[it->second].size() < cells.size()) it->second = root;
+    }
+
+    // Split: a piece that owns no image piece, smallest first.
+    std::vector<std::pair<std::size_t, std::size_t>> extra;  // (size, root)
+    for (const auto& [root, cells] : pieces.members)
+      if (!pieces.owned.count(root) && pieces.dominant[root] != FacePieces::kNoPiece &&
+          largest[state_.output_label(cells[0])] != root)
+        extra.push_back({cells.size(), root});
+    std::sort(extra.begin(), extra.end());
+    for (const auto& [size, root] : extra) {
+      const std::vector<CellId>& cells = pieces.members[root];
+      const Label l = state_.output_label(cells[0]);
+      ++out.extra_found;
+      const auto gone = [&] { return true; };
+      if (size <= kMaxRemoved && apply_mended(away(cells, l), gone, out)) {
+        ++out.removed, ++actions;
+        touched.insert(root);
+        continue;
+      }
+      // A bridge: a walk of up to kMaxBridge pentatopes of other labels from the piece to
+      // another of its label, which takes the label. Those whose circumcenters stand for the
+      // piece's image piece first (the label function has the label nearby).
+      const std::uint32_t image_piece = pieces.dominant[root];
+      std::unordered_map<CellId, CellId> parent;  // walked cell -> where it came from
+      std::vector<CellId> layer;
+      for (CellId c : cells) parent.emplace(c, c);
+      layer = cells;
+      std::vector<std::vector<CellId>> bridges;
+      for (int depth = 0;
+           depth <= kMaxBridge && bridges.empty() && !layer.empty() && parent.size() < kWalkLimit;
+           ++depth) {
+        std::vector<CellId> next;
+        for (CellId c : layer)
+          for (CellId n : st.cell(c).n) {
+            if (!st.is_live(n) || parent.count(n)) continue;
+            const Label ln = state_.output_label(n);
+            if (ln == l) {
+              const std::size_t r = pieces.found.find(n);
+              if (r == root || touched.count(r) || depth == 0) continue;
+              std::vector<CellId> bridge;
+              for (CellId b = c; parent.at(b) != b; b = parent.at(b)) bridge.push_back(b);
+              if (bridges.size() < kBridgesWeighed) bridges.push_back(std::move(bridge));
+              continue;
+            }
+            if (depth == kMaxBridge || !state_.info[n].finite) continue;
+            parent.emplace(n, c);
+            next.push_back(n);
+          }
+        layer = std::move(next);
+      }
+      const auto along = [&](const std::vector<CellId>& b) {
+        std::size_t n = 0;
+        for (CellId c : b) {
+          const std::size_t v = voxel_of(state_.oracle.image(), state_.info[c].center);
+          n += state_.oracle.image().at(v) == l && state_.oracle.pieces().piece[v] == image_piece;
+        }
+        return n;
+      };
+      std::stable_sort(bridges.begin(), bridges.end(),
+                       [&](const auto& a, const auto& b) { return along(a) > along(b); });
+      for (const std::vector<CellId>& bridge : bridges) {
+        std::vector<Move> moves;
+        for (CellId c : bridge) moves.push_back({c, l});
+        // Joined: the piece reaches another of its label.
+        const auto joined = [&] {
+          return reaches(cells, l, [&](CellId c) {
+            return pieces.found.find(c) != root && pieces.members.count(pieces.found.find(c));
+          });
+        };
+        if (!apply_mended(moves, joined, out)) continue;
+        ++out.bridged, ++actions;
+        touched.insert(root);
+        break;
+      }
+    }
+
+    // Merged: a piece that owns image pieces besides its main one; each other is cut off.
+    for (const auto& [root, owned] : pieces.owned) {
+      if (owned.size() < 2 || touched.count(root)) continue;
+      const std::vector<CellId>& cells = pieces.members[root];
+      const Label l = state_.output_label(cells[0]);
+      // The piece's main image piece: of those it owns, the one most of its pentatopes stand for.
+      std::unordered_map<std::uint32_t, std::size_t> count;
+      for (CellId c : cells) ++count[pieces.image_piece[c]];
+      std::uint32_t main = owned[0];
+      for (std::uint32_t p : owned)
+        if (count[p] > count[main] || (count[p] == count[main] && p < main)) main = p;
+      for (std::uint32_t p : owned) {
+        if (p == main) continue;
+        ++out.merged_found;
+        std::vector<CellId> island, rest;
+        for (CellId c : cells) (pieces.image_piece[c] == p ? island : rest).push_back(c);
+        // Layers on either side of where the two meet: the rest's side first (the image
+        // piece keeps its pentatopes), then the piece's own.
+        bool done = false;
+        for (int side = 0; side < 2 && !done; ++side) {
+          const std::vector<CellId>& near = side == 0 ? island : rest;
+          const std::unordered_set<CellId> far_set = [&] {
+            const auto& far = side == 0 ? rest : island;
+            return std::unordered_set<CellId>(far.begin(), far.end());
+          }();
+          std::unordered_map<CellId, Label> moving;
+          std::vector<Move> moves;
+          std::vector<CellId> front = near;
+          for (int layer = 0; layer < kMaxCutLayers && !done; ++layer) {
+            std::vector<CellId> next;
+            for (CellId c : front)
+              for (CellId n : st.cell(c).n)
+                if (far_set.count(n) && !moving.count(n) && state_.output_label(n) == l)
+                  moving.emplace(n, l), next.push_back(n);
+            if (next.empty()) break;
+            // Each takes its neighbors' label, the earlier layers' as they will be.
+            for (CellId c : next) moving[c] = neighbors_label(c, l, moving);
+            for (CellId c : next) moves.push_back({c, moving[c]});
+            front = next;
+            // Cut: what is left of the image piece's pentatopes reaches no other image piece's.
+            const auto cut = [&] {
+              const bool any = std::any_of(island.begin(), island.end(),
+                                           [&](CellId c) { return state_.output_label(c) == l; });
+              return any && !reaches(island, l, [&](CellId c) {
+                       return pieces.image_piece[c] != FacePieces::kNoPiece &&
+                              pieces.image_piece[c] != p;
+                     });
+            };
+            done = apply_mended(moves, cut, out);
+          }
+        }
+        if (!done) continue;
+        ++out.cut, ++actions;
+        touched.insert(root);
+        break;
+      }
+    }
+    if (actions == 0) break;
+  }
+  stars_.clear();
+  current_.clear();
+  near_facets_.clear();
+  return out;
+}
+
+}  // namespace mesh4d::refine
