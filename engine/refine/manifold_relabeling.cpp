@@ -119,6 +119,8 @@ bool ManifoldRelabeling::new_boundary_near_surface(const std::vector<Move>& move
 }
 
 long ManifoldRelabeling::gain_of(const std::vector<Move>& moves) {
+  for (const Move& m : moves)
+    if (m.to == frozen_label_ && frozen_.count(m.cell)) return kNotAllowed;
   // Only the links of the moved pentatopes' vertices change, and only for the labels they
   // leave or take.
   std::vector<Label> labels, old;

@@ -24,6 +24,7 @@
 #include <limits>
 #include <map>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "refine/manifold_scan.h"
@@ -64,8 +65,12 @@ class ManifoldRelabeling {
   // Applies `moves` when they may move, pinch nothing more and keep the new boundary near ∂Ω.
   // Links they break are mended by run() around them; they are undone (with the mending)
   // unless no more links fail than before and `done` holds after them.
-  bool apply_mended(const std::vector<Move>& moves, const std::function<bool()>& done,
-                    PieceMatching& out);
+  // `frozen`, when given, lists (once the moves are applied) the pentatopes that the mending
+  // may not give `label`.
+  bool apply_mended(
+      const std::vector<Move>& moves, const std::function<bool()>& done, PieceMatching& out,
+      const std::function<void(std::unordered_set<delaunay::CellId>&)>& frozen = nullptr,
+      domain::Label label = 0);
   // Applies `moves`, journaled so that undo_to() can take them back.
   void apply(const std::vector<Move>& moves);
   void undo_to(std::size_t journal_mark, std::size_t touched_mark);
@@ -100,6 +105,9 @@ class ManifoldRelabeling {
   std::unordered_map<std::uint64_t, bool> current_;  // (vertex << 16 | label) -> fails
   std::vector<mesh4d::VertexId> touched_;            // vertices of the pentatopes moved this round
   std::vector<Move> journal_;                        // applied moves, with the label each left
+  // Pentatopes that may not take frozen_label_ (while piece matching mends around a cut).
+  std::unordered_set<delaunay::CellId> frozen_;
+  domain::Label frozen_label_ = 0;
   // Facets (sorted vertices) already asked whether they lie near ∂Ω, and the answer.
   std::map<std::array<mesh4d::VertexId, 4>, bool> near_facets_;
 };

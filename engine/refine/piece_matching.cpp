@@ -110,8 +110,9 @@ bool ManifoldRelabeling::reaches(const std::vector<CellId>& from, Label label,
   return false;
 }
 
-bool ManifoldRelabeling::apply_mended(const std::vector<Move>& moves,
-                                      const std::function<bool()>& done, PieceMatching& out) {
+bool ManifoldRelabeling::apply_mended(
+    const std::vector<Move>& moves, const std::function<bool()>& done, PieceMatching& out,
+    const std::function<void(std::unordered_set<CellId>&)>& frozen, Label label) {
   stars_.clear();
   current_.clear();
   const long gain = gain_of(moves);
@@ -139,7 +140,9 @@ bool ManifoldRelabeling::apply_mended(const std::vector<Move>& moves,
     // Links the moves broke: the manifold step mends them, or all is undone.
     std::sort(around.begin(), around.end());
     around.erase(std::unique(around.begin(), around.end()), around.end());
+    if (frozen) frozen(frozen_), frozen_label_ = label;
     const Outcome mended = run(&around);
+    frozen_.clear();
     moved += mended.moved;
     kept = mended.failing.size() <= before && done();
     if (kept) out.links_mended += before - mended.failing.size();
@@ -325,7 +328,16 @@ PieceMatching ManifoldRelabeling::match_image_pieces() {
                               pieces.image_piece[c] != p;
                      });
             };
-            done = apply_mended(moves, cut, out);
+            // The mending may not join the piece again: no pentatope next to what is left of
+            // it may take the label.
+            const auto around_island = [&](std::unordered_set<CellId>& frozen) {
+              reaches(island, l, [&](CellId c) {
+                for (CellId n : st.cell(c).n)
+                  if (state_.output_label(n) != l) frozen.insert(n);
+                return false;
+              });
+            };
+            done = apply_mended(moves, cut, out, around_island, l);
           }
         }
         if (!done) continue;
