@@ -119,8 +119,6 @@ bool ManifoldRelabeling::new_boundary_near_surface(const std::vector<Move>& move
 }
 
 long ManifoldRelabeling::gain_of(const std::vector<Move>& moves) {
-  for (const Move& m : moves)
-    if (m.to == frozen_label_ && frozen_.count(m.cell)) return kNotAllowed;
   // Only the links of the moved pentatopes' vertices change, and only for the labels they
   // leave or take.
   std::vector<Label> labels, old;
@@ -133,6 +131,12 @@ long ManifoldRelabeling::gain_of(const std::vector<Move>& moves) {
   bool allowed = true;
   for (std::size_t i = 0; i < moves.size() && allowed; ++i)
     allowed = may_relabel(state_, moves[i].cell, old[i]);
+  if (allowed && guard_)
+    for (const Move& m : moves)
+      if (m.to == guarded_label_) {
+        allowed = !guard_();
+        break;
+      }
   const long gain = allowed ? before - failing_over(moves, labels, false) : kNotAllowed;
   for (std::size_t i = moves.size(); i-- > 0;) state_.set_label(moves[i].cell, old[i]);
   return gain;

@@ -24,7 +24,6 @@
 #include <limits>
 #include <map>
 #include <unordered_map>
-#include <unordered_set>
 #include <vector>
 
 #include "refine/manifold_scan.h"
@@ -44,8 +43,10 @@ class ManifoldRelabeling {
   /// Over every boundary vertex, or only those `around` (the others' links are known to pass).
   Outcome run(const std::vector<mesh4d::VertexId>* around = nullptr);
   /// After run(): each region's pieces matched with the image's (piece_matching.h): a piece
-  /// the image joins to another is removed or bridged, and one the image splits is cut.
-  PieceMatching match_image_pieces();
+  /// the image joins to another is removed or bridged, and one the image splits is cut. With
+  /// `leave_links`, a cut may leave a few links failing where the mending cannot close them
+  /// without joining the pieces again (a vertex both touch): they are listed in the outcome.
+  PieceMatching match_image_pieces(bool leave_links = false);
 
  private:
   struct Move {
@@ -65,12 +66,12 @@ class ManifoldRelabeling {
   // Applies `moves` when they may move, pinch nothing more and keep the new boundary near ∂Ω.
   // Links they break are mended by run() around them; they are undone (with the mending)
   // unless no more links fail than before and `done` holds after them.
-  // `frozen`, when given, lists (once the moves are applied) the pentatopes that the mending
-  // may not give `label`.
-  bool apply_mended(
-      const std::vector<Move>& moves, const std::function<bool()>& done, PieceMatching& out,
-      const std::function<void(std::unordered_set<delaunay::CellId>&)>& frozen = nullptr,
-      domain::Label label = 0);
+  // With `guarded`, the mending may not give a pentatope `label` where `done` then fails.
+  // `spare`: how many more links may fail after the mending than before (those left go to
+  // out.failing).
+  bool apply_mended(const std::vector<Move>& moves, const std::function<bool()>& done,
+                    PieceMatching& out, bool guarded = false, domain::Label label = 0,
+                    std::size_t spare = 0);
   // Applies `moves`, journaled so that undo_to() can take them back.
   void apply(const std::vector<Move>& moves);
   void undo_to(std::size_t journal_mark, std::size_t touched_mark);
@@ -105,9 +106,10 @@ class ManifoldRelabeling {
   std::unordered_map<std::uint64_t, bool> current_;  // (vertex << 16 | label) -> fails
   std::vector<mesh4d::VertexId> touched_;            // vertices of the pentatopes moved this round
   std::vector<Move> journal_;                        // applied moves, with the label each left
-  // Pentatopes that may not take frozen_label_ (while piece matching mends around a cut).
-  std::unordered_set<delaunay::CellId> frozen_;
-  domain::Label frozen_label_ = 0;
+  // While piece matching mends around a cut: moves that give a pentatope guarded_label_ are
+  // not allowed when guard_ holds after them (the cut piece joined again).
+  std::function<bool()> guard_;
+  domain::Label guarded_label_ = 0;
   // Facets (sorted vertices) already asked whether they lie near ∂Ω, and the answer.
   std::map<std::array<mesh4d::VertexId, 4>, bool> near_facets_;
 };

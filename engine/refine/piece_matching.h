@@ -17,6 +17,9 @@
 #pragma once
 
 #include <cstddef>
+#include <vector>
+
+#include "refine/manifold_scan.h"
 
 namespace mesh4d::refine {
 
@@ -28,6 +31,9 @@ struct PieceMatching {
   std::size_t cut = 0;           // of those, cut off
   std::size_t moved = 0;         // pentatopes that changed label
   std::size_t links_mended = 0;  // failing (vertex, label) links the moves mended
+  // With `leave_links` (manifold_relabeling.h): the failing links the cuts left, for the
+  // manifold sampling.
+  std::vector<NonManifoldVertex> failing;
 };
 
 }  // namespace mesh4d::refine

@@ -12,8 +12,10 @@
 //   extraction         the output mesh
 #include "refine/refiner.h"
 
+#include <algorithm>
 #include <chrono>
 #include <sstream>
+#include <tuple>
 
 #include "refine/extraction.h"
 #include "refine/manifold_relabeling.h"
@@ -171,14 +173,31 @@ RefineResult Refiner::run(ProgressSink* sink) {
   ManifoldRelabeling manifold_step(p.state, p.scan);
   ManifoldRelabeling::Outcome manifold = manifold_step.run();
   result.relabeled += manifold.moved;
-  const ManifoldSampling::Outcome sampled = p.sample_manifold(std::move(manifold.failing), sink);
+  // Pieces first matched with links left to the sampling, then matched again on its mesh.
+  PieceMatching matched = manifold_step.match_image_pieces(true);
+  result.relabeled += matched.moved;
+  std::vector<NonManifoldVertex> failing = std::move(manifold.failing);
+  failing.insert(failing.end(), matched.failing.begin(), matched.failing.end());
+  std::sort(failing.begin(), failing.end(), [](const auto& a, const auto& b) {
+    return std::tie(a.vertex, a.label) < std::tie(b.vertex, b.label);
+  });
+  failing.erase(std::unique(failing.begin(), failing.end(),
+                            [](const auto& a, const auto& b) {
+                              return a.vertex == b.vertex && a.label == b.label;
+                            }),
+                failing.end());
+  const ManifoldSampling::Outcome sampled = p.sample_manifold(std::move(failing), sink);
   result.relabeled += sampled.moved;
   result.manifold_rounds = sampled.rounds;
   result.manifold_points = sampled.points;
-  const PieceMatching matched = manifold_step.match_image_pieces();
-  result.relabeled += matched.moved;
+  std::size_t mended = 0;  // of the links the sampling left
+  if (sampled.points > 0) {
+    matched = manifold_step.match_image_pieces();
+    result.relabeled += matched.moved;
+    mended = std::min(matched.links_mended, sampled.failing.size());
+  }
   p.relabeling.invalidate();
-  result.non_manifold_left = sampled.failing.size() - matched.links_mended;
+  result.non_manifold_left = sampled.failing.size() - mended;
   p.meter.report(sink, Phase::extracting, true);
   result.mesh = extract(p.state, result.warnings);
   p.finish(result);
