@@ -176,6 +176,11 @@ RefineResult Refiner::run(ProgressSink* sink) {
   // Pieces first matched with links left to the sampling, then matched again on its mesh.
   PieceMatching matched = manifold_step.match_image_pieces(true);
   result.relabeled += matched.moved;
+  const auto count = [&](const PieceMatching& m) {
+    result.pieces_removed += m.removed, result.pieces_bridged += m.bridged,
+        result.pieces_cut += m.cut;
+  };
+  count(matched);
   std::vector<NonManifoldVertex> failing = std::move(manifold.failing);
   failing.insert(failing.end(), matched.failing.begin(), matched.failing.end());
   std::sort(failing.begin(), failing.end(), [](const auto& a, const auto& b) {
@@ -194,6 +199,7 @@ RefineResult Refiner::run(ProgressSink* sink) {
   if (sampled.points > 0) {
     matched = manifold_step.match_image_pieces();
     result.relabeled += matched.moved;
+    count(matched);
     mended = std::min(matched.links_mended, sampled.failing.size());
   }
   p.relabeling.invalidate();

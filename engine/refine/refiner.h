@@ -30,6 +30,8 @@ struct RefineResult {
   // The manifold sampling's rounds and the surface points they inserted (manifold_sampling.h).
   int manifold_rounds = 0;
   std::size_t manifold_points = 0;
+  // The piece matching's mended pieces, both of its passes (piece_matching.h).
+  std::size_t pieces_removed = 0, pieces_bridged = 0, pieces_cut = 0;
   // The parallel phases' overheads (Progress): all 0 with one thread.
   std::uint64_t rollbacks = 0;
   double contention_seconds = 0;
