@@ -36,6 +36,49 @@ Label center_label(const std::array<Label, 16>& label, int span, const std::vect
   return center;
 }
 
+// Calls fn(j) for every neighbor j of voxel i (offsets in {-1, 0, 1}⁴ along `min_axes` or more
+// axes) that has i's non-zero label, for which wanted(j) holds and, when it is diagonal, whose
+// block's center the label function gives to that label.
+template <class Wanted, class Fn>
+void for_each_joined(const LabelImage4& image, const std::vector<double>& beta, std::size_t i,
+                     int min_axes, Wanted&& wanted, Fn&& fn) {
+  const auto& d = image.dims();
+  const std::size_t stride[4] = {1, d[0], d[0] * d[1], d[0] * d[1] * d[2]};
+  const long c[4] = {long(i % d[0]), long(i / d[0] % d[1]), long(i / stride[2] % d[2]),
+                     long(i / stride[3])};
+  const Label l = image.at(i);
+  // Every offset in {-1, 0, 1}⁴ but 0 (step: its digits in base 3, less one).
+  for (int code = 0; code < 81; ++code) {
+    int step[4], axes = 0;
+    bool inside = true;
+    long j = long(i);
+    for (int a = 0, rest = code; a < 4; ++a, rest /= 3) {
+      step[a] = rest % 3 - 1;
+      if (step[a] == 0) continue;
+      axes |= 1 << a;
+      inside = inside && c[a] + step[a] >= 0 && c[a] + step[a] < long(d[a]);
+      j += step[a] * long(stride[a]);
+    }
+    if (kBits[axes] < min_axes || !inside || image.at(std::size_t(j)) != l ||
+        !wanted(std::size_t(j)))
+      continue;
+    if (kBits[axes] == 1) {
+      fn(std::size_t(j));
+      continue;
+    }
+    // The block between i and j, corner k taking the step along the axes of k.
+    std::array<Label, 16> label{};
+    for (int k = 0; k < 16; ++k) {
+      if (k & ~axes) continue;
+      long v = long(i);
+      for (int a = 0; a < 4; ++a)
+        if (k >> a & 1) v += step[a] * long(stride[a]);
+      label[k] = image.at(std::size_t(v));
+    }
+    if (center_label(label, axes, beta) == l) fn(std::size_t(j));
+  }
+}
+
 }  // namespace
 
 FacePieces label_function_pieces(const LabelImage4& image,
@@ -43,80 +86,36 @@ FacePieces label_function_pieces(const LabelImage4& image,
   // The foreground's pieces (the background, most of a heart image, is never flooded).
   FacePieces face = face_pieces(image, false);
   if (face.pieces.empty()) return face;
-  const auto& d = image.dims();
-  // Only blocks with a foreground voxel can join anything: the foreground's bounding box.
-  std::array<std::size_t, 4> lo = d, hi{};
-  bool background = false;
-  {
-    std::size_t c[4], i = 0;
-    for (c[3] = 0; c[3] < d[3]; ++c[3])
-      for (c[2] = 0; c[2] < d[2]; ++c[2])
-        for (c[1] = 0; c[1] < d[1]; ++c[1])
-          for (c[0] = 0; c[0] < d[0]; ++c[0], ++i) {
-            if (face.piece[i] == FacePieces::kNoPiece) {
-              background = true;
-              continue;
-            }
-            for (int a = 0; a < 4; ++a)
-              lo[a] = std::min(lo[a], c[a]), hi[a] = std::max(hi[a], c[a]);
-          }
-  }
-  // The labels present, as LabelImage4::labels() lists them (without another pass).
+  // The labels present, as LabelImage4::labels() lists them (without another pass), and each
+  // label's largest piece.
   std::vector<Label> labels;
-  if (background) labels.push_back(0);
-  for (const FacePieces::Piece& p : face.pieces) labels.push_back(p.label);
+  std::size_t foreground = 0;
+  std::vector<std::uint32_t> largest(std::size_t{1} << 16, FacePieces::kNoPiece);  // by label
+  for (std::size_t p = 0; p < face.pieces.size(); ++p) {
+    const FacePieces::Piece& piece = face.pieces[p];
+    labels.push_back(piece.label);
+    foreground += piece.voxels;
+    std::uint32_t& big = largest[piece.label];
+    if (big == FacePieces::kNoPiece || face.pieces[big].voxels < piece.voxels)
+      big = static_cast<std::uint32_t>(p);
+  }
+  if (foreground < image.voxel_count()) labels.push_back(0);
   std::sort(labels.begin(), labels.end());
   labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
   const std::vector<double> beta = SurfaceOracle::label_offsets(labels);
   if (face_out) *face_out = face.pieces;
-  const std::size_t stride[4] = {1, d[0], d[0] * d[1], d[0] * d[1] * d[2]};
-  std::size_t c[4];
-  // Each block's corner k (bit a: +1 along axis a) at origin + offset[k].
-  std::array<std::size_t, 16> offset{};
-  for (int k = 0; k < 16; ++k)
-    for (int a = 0; a < 4; ++a)
-      if (k >> a & 1) offset[k] += stride[a];
+  // Two pieces of a label that meet diagonally are never both its largest: only the other
+  // pieces' voxels (on the patients a few thousand of millions) look for diagonal neighbors
+  // in another piece not yet joined to theirs.
   support::UnionFind joined(face.pieces.size());
-  for (c[3] = lo[3] ? lo[3] - 1 : 0; c[3] <= hi[3]; ++c[3])
-    for (c[2] = lo[2] ? lo[2] - 1 : 0; c[2] <= hi[2]; ++c[2])
-      for (c[1] = lo[1] ? lo[1] - 1 : 0; c[1] <= hi[1]; ++c[1]) {
-        // The axes along which blocks at this row's origins may extend.
-        int row_axes = 0;
-        for (int a = 1; a < 4; ++a)
-          if (c[a] + 1 < d[a]) row_axes |= 1 << a;
-        const std::size_t row = c[1] * stride[1] + c[2] * stride[2] + c[3] * stride[3];
-        for (c[0] = lo[0] ? lo[0] - 1 : 0; c[0] <= hi[0]; ++c[0]) {
-          const int axes = row_axes | (c[0] + 1 < d[0] ? 1 : 0);
-          const std::size_t origin = row + c[0];
-          std::array<Label, 16> label{};
-          bool uniform = true;
-          const Label first = image.at(origin);
-          for (int k = 1; k < 16; ++k) {
-            if (k & ~axes) continue;
-            label[k] = image.at(origin + offset[k]);
-            uniform = uniform && label[k] == first;
-          }
-          label[0] = first;
-          if (uniform) continue;
-          // Every block through the origin spanning two or more axes, where two opposite
-          // corners hold one label in pieces not yet joined: whether the block's center has it.
-          for (int span = 3; span < 16; ++span) {
-            if ((span & ~axes) || kBits[span] < 2) continue;
-            int center = -1;  // not yet known
-            for (int k = 0; k < 16; ++k) {
-              // Each pair once: the corner holding the span's lowest axis.
-              if ((k & ~span) || !(k & span & -span)) continue;
-              const int opposite = span & ~k;
-              if (label[k] == 0 || label[k] != label[opposite]) continue;
-              const std::size_t a = face.piece[origin + offset[k]];
-              const std::size_t b = face.piece[origin + offset[opposite]];
-              if (a == b || joined.find(a) == joined.find(b)) continue;
-              if (center < 0) center = center_label(label, span, beta);
-              if (center == label[k]) joined.join(a, b);
-            }
-          }
-        }
-      }
+  for (std::size_t i = 0; i < face.piece.size(); ++i) {
+    const std::uint32_t p = face.piece[i];
+    if (p == FacePieces::kNoPiece || p == largest[face.pieces[p].label]) continue;
+    for_each_joined(
+        image, beta, i, 2,
+        [&](std::size_t j) { return joined.find(face.piece[j]) != joined.find(p); },
+        [&](std::size_t j) { joined.join(face.piece[j], p); });
+  }
   // Renumbered by the first voxel of each joined piece.
   FacePieces out;
   std::vector<std::uint32_t> id(face.pieces.size(), FacePieces::kNoPiece);
@@ -137,39 +136,8 @@ FacePieces label_function_pieces(const LabelImage4& image,
 
 void for_each_joined_neighbor(const LabelImage4& image, const std::vector<double>& beta,
                               std::size_t i, const std::function<void(std::size_t)>& fn) {
-  const auto& d = image.dims();
-  const std::size_t stride[4] = {1, d[0], d[0] * d[1], d[0] * d[1] * d[2]};
-  const long c[4] = {long(i % d[0]), long(i / d[0] % d[1]), long(i / stride[2] % d[2]),
-                     long(i / stride[3])};
-  const Label l = image.at(i);
-  // Every offset in {-1, 0, 1}⁴ but 0 (step: its digits in base 3, less one).
-  for (int code = 0; code < 81; ++code) {
-    int step[4], axes = 0;
-    bool inside = true;
-    long j = long(i);
-    for (int a = 0, rest = code; a < 4; ++a, rest /= 3) {
-      step[a] = rest % 3 - 1;
-      if (step[a] == 0) continue;
-      axes |= 1 << a;
-      inside = inside && c[a] + step[a] >= 0 && c[a] + step[a] < long(d[a]);
-      j += step[a] * long(stride[a]);
-    }
-    if (axes == 0 || !inside || image.at(std::size_t(j)) != l) continue;
-    if (kBits[axes] == 1) {
-      fn(std::size_t(j));
-      continue;
-    }
-    // The block between i and j, corner k taking the step along the axes of k.
-    std::array<Label, 16> label{};
-    for (int k = 0; k < 16; ++k) {
-      if (k & ~axes) continue;
-      long v = long(i);
-      for (int a = 0; a < 4; ++a)
-        if (k >> a & 1) v += step[a] * long(stride[a]);
-      label[k] = image.at(std::size_t(v));
-    }
-    if (center_label(label, axes, beta) == l) fn(std::size_t(j));
-  }
+  for_each_joined(
+      image, beta, i, 1, [](std::size_t) { return true; }, fn);
 }
 
 }  // namespace mesh4d::domain

@@ -11,9 +11,11 @@
 // - merged: one piece stands for two image pieces that meet only diagonally, near a voxel
 //   corner the label function gives to another label. The layer of pentatopes where the two
 //   meet, up to three deep, takes its neighbors' label.
-// Every move obeys the manifold step's rules: allowed pentatopes only, no link fails more, no
-// triangle is pinched more and no new boundary facet lies more than Δ/2 from ∂Ω. A label's
-// largest piece never goes.
+// Every move obeys the manifold step's rules: allowed pentatopes only and no new boundary facet
+// more than Δ/2 from ∂Ω. Links that moves break are mended by the manifold step around them
+// (which may not join a cut piece again), and the moves are undone unless no more links fail
+// than before (a few more may be left to the manifold sampling, on request). A label's largest
+// piece never goes.
 #pragma once
 
 #include <cstddef>

@@ -76,16 +76,19 @@ TEST(FidelityPhantomThinPlate, IsMeshedAtAFineDeltaAndCertifiedMissingAtACoarseO
 }
 
 // Where the mesh's pieces do not match the image's, the piece matching mends them
-// (refine/piece_matching.h). The diagonal island: at δ = 3 the rules join the island to the
-// wall across the gap near their diagonal contacts, and the layer where they meet is cut. The
+// (refine/piece_matching.h). The diagonal island: at δ = 3 and 4 the rules join the island to
+// the wall across the gap near their diagonal contacts, and the layer where they meet is cut. The
 // thin bridge: at δ = 2.5 no circumball of the rules fits in the bar and the small ball is cut
 // off; a bridge of pentatopes joins it again. Both are two pieces apart on the label function's
 // reading of their diagonal contacts (diagonal island) or one (thin bridge).
 TEST(FidelityPhantomPieceMatching, JoinsWhatTheImageJoinsAndCutsWhatItSplits) {
-  const Meshed island = mesh_phantom("diagonal-island", 3);
-  ASSERT_EQ(island.certificate.labels.size(), 2u);
-  EXPECT_EQ(island.certificate.labels[1].image_pieces, 2u);
-  expect_faithful(island);
+  for (const double delta : {3.0, 4.0}) {
+    SCOPED_TRACE("diagonal island, delta " + std::to_string(delta));
+    const Meshed island = mesh_phantom("diagonal-island", delta);
+    ASSERT_EQ(island.certificate.labels.size(), 2u);
+    EXPECT_EQ(island.certificate.labels[1].image_pieces, 2u);
+    expect_faithful(island);
+  }
   const Meshed bridge = mesh_phantom("thin-bridge", 2.5);
   ASSERT_EQ(bridge.certificate.labels.size(), 1u);
   EXPECT_EQ(bridge.certificate.labels[0].image_pieces, 1u);
