@@ -71,7 +71,7 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
   const auto result = mesh4d::bench::run_in_child<Flat>([&] {
     domain::LabelImage4 closed = image;
     domain::validate_and_close(closed);
-    domain::remove_small_pieces(closed, g_min_island_voxels);
+    domain::clean_segmentation(closed, g_min_island_voxels);
     const domain::SurfaceOracle oracle(closed);
     refine::Refiner refiner(oracle, params);
     const auto r = refiner.run();

@@ -36,7 +36,7 @@ JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& pa
   sink.on_progress(phase);
   domain::LabelImage4 image =
       wire::decode_upload(header, input, &out.warnings, preparation.extend_time_frames);
-  for (const std::string& w : domain::remove_small_pieces(image, preparation.min_island_voxels)
+  for (const std::string& w : domain::clean_segmentation(image, preparation.min_island_voxels)
                                   .warnings(preparation.min_island_voxels))
     out.warnings.push_back(w);
   if (sink.should_abort()) throw refine::Cancelled();

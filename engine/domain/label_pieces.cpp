@@ -81,11 +81,8 @@ void for_each_joined(const LabelImage4& image, const std::vector<double>& beta, 
 
 }  // namespace
 
-FacePieces label_function_pieces(const LabelImage4& image,
-                                 std::vector<FacePieces::Piece>* face_out) {
-  // The foreground's pieces (the background, most of a heart image, is never flooded).
-  FacePieces face = face_pieces(image, false);
-  if (face.pieces.empty()) return face;
+void for_each_diagonal_join(const LabelImage4& image, const FacePieces& face,
+                            const std::function<bool(std::size_t, std::size_t)>& fn) {
   // The labels present, as LabelImage4::labels() lists them (without another pass), and each
   // label's largest piece.
   std::vector<Label> labels;
@@ -103,7 +100,6 @@ FacePieces label_function_pieces(const LabelImage4& image,
   std::sort(labels.begin(), labels.end());
   labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
   const std::vector<double> beta = SurfaceOracle::label_offsets(labels);
-  if (face_out) *face_out = face.pieces;
   // Two pieces of a label that meet diagonally are never both its largest: only the other
   // pieces' voxels (on the patients a few thousand of millions) look for diagonal neighbors
   // in another piece not yet joined to theirs.
@@ -114,8 +110,23 @@ FacePieces label_function_pieces(const LabelImage4& image,
     for_each_joined(
         image, beta, i, 2,
         [&](std::size_t j) { return joined.find(face.piece[j]) != joined.find(p); },
-        [&](std::size_t j) { joined.join(face.piece[j], p); });
+        [&](std::size_t j) {
+          if (fn(i, j)) joined.join(face.piece[j], p);
+        });
   }
+}
+
+FacePieces label_function_pieces(const LabelImage4& image,
+                                 std::vector<FacePieces::Piece>* face_out) {
+  // The foreground's pieces (the background, most of a heart image, is never flooded).
+  FacePieces face = face_pieces(image, false);
+  if (face.pieces.empty()) return face;
+  if (face_out) *face_out = face.pieces;
+  support::UnionFind joined(face.pieces.size());
+  for_each_diagonal_join(image, face, [&](std::size_t i, std::size_t j) {
+    joined.join(face.piece[i], face.piece[j]);
+    return true;
+  });
   // Renumbered by the first voxel of each joined piece.
   FacePieces out;
   std::vector<std::uint32_t> id(face.pieces.size(), FacePieces::kNoPiece);

@@ -20,6 +20,14 @@ namespace mesh4d::domain {
 FacePieces label_function_pieces(const LabelImage4& image,
                                  std::vector<FacePieces::Piece>* face = nullptr);
 
+/// Calls fn(i, j) for diagonal joins between different pieces of `face` (face_pieces(image,
+/// false)): voxels i and j of one label, opposite corners of a block of 2^k voxels whose center
+/// the label function gives to that label, i in a piece that is not its label's largest (every
+/// join has such an end). A pair is skipped when earlier calls that returned true join the two
+/// pieces already; fn returns whether it joins them.
+void for_each_diagonal_join(const LabelImage4& image, const FacePieces& face,
+                            const std::function<bool(std::size_t, std::size_t)>& fn);
+
 /// Calls fn(j) for every voxel j that the label function joins directly to voxel i, which has
 /// a non-zero label: a face neighbor of that label, or a diagonal one whose block's center has
 /// it. `beta`: the offsets by label value (SurfaceOracle::label_offsets). A walk through these

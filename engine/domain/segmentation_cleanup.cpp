@@ -18,12 +18,22 @@ std::vector<std::string> CleanupReport::warnings(std::size_t min_voxels) const {
       << " voxels in pieces under " << min_voxels << " voxels; min_island_voxels = 0 keeps them)";
     out.push_back(s.str());
   }
+  for (const auto& [label, d] : diagonal.labels) {
+    if (d.contacts == 0 && d.left == 0) continue;
+    std::ostringstream s;
+    s << "segmentation cleanup: label " << label << ": " << d.contacts
+      << " diagonal contacts that the label function joins made face contacts (" << d.voxels
+      << " voxels took the label)";
+    if (d.left) s << "; " << d.left << " could not be without splitting another label";
+    out.push_back(s.str());
+  }
   return out;
 }
 
-CleanupReport remove_small_pieces(LabelImage4& image, std::size_t min_voxels) {
-  CleanupReport report;
-  if (min_voxels == 0) return report;
+namespace {
+
+// Every face-connected piece below min_voxels to the label most of its face neighbors have.
+void remove_small_pieces(LabelImage4& image, std::size_t min_voxels, CleanupReport& report) {
   const FacePieces found = face_pieces(image);
   // The small pieces' voxels, grouped by piece, smallest pieces first.
   std::vector<std::uint32_t> small;
@@ -33,7 +43,7 @@ CleanupReport remove_small_pieces(LabelImage4& image, std::size_t min_voxels) {
     if (piece.label == 0 && piece.touches_border) continue;  // the outside
     small.push_back(p);
   }
-  if (small.empty()) return report;
+  if (small.empty()) return;
   std::stable_sort(small.begin(), small.end(), [&](std::uint32_t a, std::uint32_t b) {
     return found.pieces[a].voxels < found.pieces[b].voxels;
   });
@@ -71,6 +81,15 @@ CleanupReport remove_small_pieces(LabelImage4& image, std::size_t min_voxels) {
     r.voxels += first[k + 1] - first[k];
   }
   for (const auto& [l, r] : removed) report.labels.push_back(r);
+}
+
+}  // namespace
+
+CleanupReport clean_segmentation(LabelImage4& image, std::size_t min_voxels) {
+  CleanupReport report;
+  if (min_voxels == 0) return report;
+  remove_small_pieces(image, min_voxels, report);
+  report.diagonal = fill_diagonal_joins(image);
   return report;
 }
 

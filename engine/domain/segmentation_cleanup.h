@@ -4,14 +4,17 @@
 // certificate compares the mesh with the image's pieces, so they go before meshing: every
 // face-connected piece of fewer than `min_voxels` voxels takes the label most of its face
 // neighbors have. Background that reaches the image's border is the outside, never a hole;
-// smaller pieces go first, each seeing the labels as the ones before left them. What was
-// removed is reported per label, for the job's warnings.
+// smaller pieces go first, each seeing the labels as the ones before left them. Then the
+// diagonal contacts that the label function joins become face contacts (diagonal_fill.h), so
+// that the cleaned image's face-connected pieces are the label function's. What changed is
+// reported per label, for the job's warnings.
 #pragma once
 
 #include <cstddef>
 #include <string>
 #include <vector>
 
+#include "domain/diagonal_fill.h"
 #include "domain/label_image.h"
 
 namespace mesh4d::domain {
@@ -27,11 +30,13 @@ struct CleanupReport {
     std::size_t voxels = 0;
   };
   std::vector<PerLabel> labels;  // labels that lost a piece, ascending
+  DiagonalFill diagonal;         // the diagonal joins made face joins
   /// One sentence per label, for the job's warnings; none when nothing was removed.
   std::vector<std::string> warnings(std::size_t min_voxels) const;
 };
 
-/// Removes the pieces below `min_voxels` in place (0: nothing is done).
-CleanupReport remove_small_pieces(LabelImage4& image, std::size_t min_voxels);
+/// Removes the pieces below `min_voxels` in place, then fills the diagonal joins (0: nothing is
+/// done).
+CleanupReport clean_segmentation(LabelImage4& image, std::size_t min_voxels);
 
 }  // namespace mesh4d::domain

@@ -24,7 +24,7 @@ struct Meshed {
 Meshed mesh_phantom(const std::string& name, double delta = 2.5) {
   domain::LabelImage4 image = domain::make_phantom(name);
   domain::validate_and_close(image);
-  domain::remove_small_pieces(image, domain::kDefaultMinIslandVoxels);
+  domain::clean_segmentation(image, domain::kDefaultMinIslandVoxels);
   const domain::SurfaceOracle oracle(image);
   RefineParams params;
   params.delta = delta;

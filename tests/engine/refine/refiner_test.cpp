@@ -224,7 +224,7 @@ TEST(Refiner, PatientClosesEveryPinchWhereThreeLabelsMeet) {
 TEST(Refiner, PatientRegionsAreTheCleanedImagesPieces) {
   auto image = patient_at_papers_spacing("Pat01");
   if (!image) GTEST_SKIP() << "no real data in " << MESH4D_HEART_DATA_DIR;
-  domain::remove_small_pieces(*image, domain::kDefaultMinIslandVoxels);
+  domain::clean_segmentation(*image, domain::kDefaultMinIslandVoxels);
   const domain::SurfaceOracle oracle(*image);
   RefineParams params;
   params.delta = 5;
