@@ -1,7 +1,8 @@
 // The phantoms that provoke what the fidelity certificate counts (domain/phantoms.h), meshed as
 // the service meshes them (closed, cleaned at the default threshold) at δ = 2.5 on 24⁴ voxels
 // of one unit. Each label's mesh is as many pieces as the cleaned image has (as the label
-// function joins its voxels), none touching another, with every boundary link a sphere.
+// function joins its voxels, and face-connected: the cleanup makes the two the same), none
+// touching another, with every boundary link a sphere.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -49,6 +50,7 @@ void expect_faithful(const Meshed& m) {
   for (const LabelFidelity& l : m.certificate.labels) {
     SCOPED_TRACE("label " + std::to_string(l.label));
     EXPECT_EQ(l.mesh_pieces, l.image_pieces);
+    EXPECT_EQ(l.mesh_pieces, l.image_face_pieces);  // the cleaned image's (diagonal_fill.h)
     EXPECT_EQ(l.touching_pieces, 0u);
     EXPECT_EQ(l.non_manifold_vertices, 0u);
     EXPECT_EQ(l.non_manifold_edges, 0u);
@@ -104,7 +106,7 @@ TEST(FidelityPhantomPieceMatching, JoinsWhatTheImageJoinsAndCutsWhatItSplits) {
 INSTANTIATE_TEST_SUITE_P(Phantoms, FidelityPhantom,
                          ::testing::Values("corner-contact", "moving-junction", "island",
                                            "checkerboard", "thin-wall", "diagonal-island",
-                                           "thin-bridge"),
+                                           "thin-bridge", "hypersphere", "hypertorus", "blobs"),
                          [](const auto& param_info) {
                            std::string n = param_info.param;
                            for (char& c : n)
