@@ -1,6 +1,6 @@
 // The label function's pieces two ways: the whole image at once (label_function_pieces, which
-// the certificate counts) and walks from one voxel (for_each_joined_neighbor, which the
-// extra-piece step takes): on random images each walk must cover exactly its voxel's piece.
+// the certificate counts) and walks from one voxel (for_each_joined_neighbor, each voxel's
+// joins one by one): on random images each walk must cover exactly its voxel's piece.
 #include "domain/label_pieces.h"
 
 #include <gtest/gtest.h>

@@ -218,7 +218,7 @@ TEST(Refiner, PatientClosesEveryPinchWhereThreeLabelsMeet) {
 
 // Pat01 at the paper's spacing (first 15 frames, cleaned at the default, as bench/refine_bench):
 // the refinement cut off a blood-pool piece of three pentatopes, which the image joins to the
-// rest; the extra-piece step gives it its neighbors' label, so each label is as many pieces as
+// rest; the piece matching gives it its neighbors' label, so each label is as many pieces as
 // the cleaned image has, none touching another (without the step: 2 blood-pool pieces). About
 // 8 s.
 TEST(Refiner, PatientRegionsAreTheCleanedImagesPieces) {
