@@ -218,7 +218,8 @@ PieceMatching ManifoldRelabeling::match_image_pieces(bool leave_links) {
       if (!pieces.owned.count(root) && largest[state_.output_label(cells[0])] != root)
         extra.push_back({cells.size(), root});
     std::sort(extra.begin(), extra.end());
-    for (const auto& [size, root] : extra) {
+    for (const auto& [size, piece_root] : extra) {
+      const std::size_t root = piece_root;  // captured below (not a structured binding)
       const std::vector<CellId>& cells = pieces.members[root];
       const Label l = state_.output_label(cells[0]);
       ++out.extra_found;
