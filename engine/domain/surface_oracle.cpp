@@ -65,8 +65,13 @@ std::size_t SurfaceOracle::nearest_voxel(const Point4& x, Point4* center) const 
   std::size_t c[4];
   for (int a = 0; a < 4; ++a)
     c[a] = static_cast<std::size_t>(std::clamp(std::round(u[a]), 0.0, double(d[a] - 1)));
-  *center = image_.voxel_center(c[0], c[1], c[2], c[3]);
+  if (center) *center = image_.voxel_center(c[0], c[1], c[2], c[3]);
   return image_.linear_index(c[0], c[1], c[2], c[3]);
+}
+
+std::uint32_t SurfaceOracle::piece_at(const Point4& x, Label label) const {
+  const std::size_t v = nearest_voxel(x, nullptr);
+  return image_.at(v) == label ? pieces_.piece[v] : FacePieces::kNoPiece;
 }
 
 Point4 SurfaceOracle::center_of(std::uint32_t voxel, std::uint32_t coordinates[4]) const {

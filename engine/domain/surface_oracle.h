@@ -62,6 +62,8 @@ class SurfaceOracle {
   /// The image's pieces as the label function joins them (label_pieces.h), read once with the
   /// feature transform: the refiner matches its regions' pieces with them.
   const FacePieces& pieces() const { return pieces_; }
+  /// The piece of the voxel nearest to x when that voxel has `label`, else FacePieces::kNoPiece.
+  std::uint32_t piece_at(const Point4& x, Label label) const;
   /// Its gradient (central differences at a tenth of a voxel: exact but within that distance of
   /// a voxel-center hyperplane, where the piecewise multilinear f has a kink).
   Vec4 cut_gradient(const Point4& x, Label a, Label b) const;
@@ -193,7 +195,7 @@ class SurfaceOracle {
   // The edges from surface voxel sc (center `center`) to its face neighbors of another label,
   // as brackets with sc's side as a; returns how many (at least one for a surface voxel).
   int voxel_edges(const std::uint32_t sc[4], const Point4& center, SurfaceBracket out[8]) const;
-  // The nearest voxel to x (clamped to the image), by linear index, and its center.
+  // The nearest voxel to x (clamped to the image), by linear index, and its center (when asked).
   std::size_t nearest_voxel(const Point4& x, Point4* center) const;
   // A voxel's center from its linear index (below 2^32, as in the feature transform).
   Point4 center_of(std::uint32_t voxel, std::uint32_t coordinates[4]) const;

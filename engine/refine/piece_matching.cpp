@@ -1,7 +1,6 @@
 #include "refine/piece_matching.h"
 
 #include <algorithm>
-#include <cmath>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -33,24 +32,10 @@ constexpr std::size_t kSpareLinks = 8;
 // Passes over the pieces (each acts on pieces that no earlier action of the pass touched).
 constexpr int kPasses = 3;
 
-// The voxel nearest to p, clamped to the image.
-std::size_t voxel_of(const domain::LabelImage4& image, const Point4& p) {
-  const auto u = image.to_index(p);
-  std::size_t c[4];
-  for (int a = 0; a < 4; ++a) {
-    const double r = std::round(u[a]);
-    const double hi = static_cast<double>(image.dims()[a] - 1);
-    c[a] = static_cast<std::size_t>(std::clamp(r, 0.0, hi));
-  }
-  return image.linear_index(c[0], c[1], c[2], c[3]);
-}
-
 // The regions' facet-connected pieces, and the image piece each pentatope stands for.
 struct RegionPieces {
   explicit RegionPieces(const RefinementState& state) : found(state.tri.store().cell_slots()) {
     const auto& st = state.tri.store();
-    const auto& image = state.oracle.image();
-    const FacePieces& pieces = state.oracle.pieces();
     image_piece.assign(st.cell_slots(), FacePieces::kNoPiece);
     std::vector<CellId> output;
     for (CellId c = 0; c < st.cell_slots(); ++c) {
@@ -58,8 +43,7 @@ struct RegionPieces {
       const Label l = state.output_label(c);
       if (l == 0) continue;
       output.push_back(c);
-      const std::size_t v = voxel_of(image, state.info[c].center);
-      if (image.at(v) == l) image_piece[c] = pieces.piece[v];
+      image_piece[c] = state.oracle.piece_at(state.info[c].center, l);
       for (CellId n : st.cell(c).n)
         if (n < c && st.is_live(n) && state.output_label(n) == l) found.join(c, n);
     }
@@ -186,15 +170,8 @@ PieceMatching ManifoldRelabeling::match_image_pieces(bool leave_links) {
   // only, none of which the callers move, to the background).
   const auto away = [&](const std::vector<CellId>& cells, Label l) {
     std::vector<Move> moves;
-    const std::unordered_set<CellId> inside(cells.begin(), cells.end());
     for (CellId c : cells) {
-      std::unordered_map<Label, int> votes;
-      for (CellId n : st.cell(c).n)
-        if (!inside.count(n)) ++votes[state_.output_label(n)];
-      int best = 0;
-      Label to = l;
-      for (const auto& [label, n] : votes)
-        if (label != l && (n > best || (n == best && label < to))) best = n, to = label;
+      const Label to = neighbors_label(c, l, {});
       moves.push_back({c, to == l ? Label{0} : to});
     }
     return moves;
@@ -262,10 +239,7 @@ PieceMatching ManifoldRelabeling::match_image_pieces(bool leave_links) {
       }
       const auto along = [&](const std::vector<CellId>& b) {
         std::size_t n = 0;
-        for (CellId c : b) {
-          const std::size_t v = voxel_of(state_.oracle.image(), state_.info[c].center);
-          n += state_.oracle.image().at(v) == l && state_.oracle.pieces().piece[v] == image_piece;
-        }
+        for (CellId c : b) n += state_.oracle.piece_at(state_.info[c].center, l) == image_piece;
         return n;
       };
       std::stable_sort(bridges.begin(), bridges.end(),

@@ -177,8 +177,9 @@ RefineResult Refiner::run(ProgressSink* sink) {
   PieceMatching matched = manifold_step.match_image_pieces(true);
   result.relabeled += matched.moved;
   const auto count = [&](const PieceMatching& m) {
-    result.pieces_removed += m.removed, result.pieces_bridged += m.bridged,
-        result.pieces_cut += m.cut;
+    result.pieces_removed += m.removed;
+    result.pieces_bridged += m.bridged;
+    result.pieces_cut += m.cut;
   };
   count(matched);
   std::vector<NonManifoldVertex> failing = std::move(manifold.failing);
