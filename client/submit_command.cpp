@@ -24,7 +24,7 @@ struct SubmitOptions {
   std::string image;
   std::vector<std::string> frames;
   std::string params_file;
-  double delta = 0, rho = 0, time_scale = 1;
+  double delta = 0, rho = 0, time_scale = 0;
   unsigned threads = 0;
   unsigned extend_time = 0;
   std::optional<unsigned> min_island_voxels;
@@ -50,6 +50,7 @@ void fill_params(const SubmitOptions& o, v1::RefineParams* p) {
   if (o.rho) p->set_radius_edge_bound(o.rho);
   if (o.threads) p->set_threads(o.threads);
   if (o.extend_time) p->set_extend_time_frames(o.extend_time);
+  if (o.time_scale) p->set_time_scale(o.time_scale);
   if (o.strict) p->set_strict(true);
   if (o.min_island_voxels) p->set_min_island_voxels(*o.min_island_voxels);
 }
@@ -66,13 +67,10 @@ int run_submit(const GlobalOptions& global, const SubmitOptions& o) {
   v1::JobSpec spec;
   std::string raw;
   try {
-    const domain::LabelImage4 image = o.frames.empty()
-                                          ? domain::read_label_image(o.image)
-                                          : domain::read_label_frames(o.frames, o.time_scale);
-    auto* h = spec.mutable_image();
-    raw = wire::encode_upload(image, h);
-    // The time scale of a 4D file can be overridden; a frame series got it when read.
-    if (o.frames.empty() && o.time_scale != 1) h->mutable_spacing()->set_t(o.time_scale);
+    // Frames of a series are one frame apart; the mesh's time scale is a parameter.
+    const domain::LabelImage4 image = o.frames.empty() ? domain::read_label_image(o.image)
+                                                       : domain::read_label_frames(o.frames, 1);
+    raw = wire::encode_upload(image, spec.mutable_image());
     fill_params(o, spec.mutable_params());
   } catch (const std::exception& e) {
     std::cerr << "mesh4d-client: submit: " << e.what() << "\n";
@@ -89,6 +87,8 @@ int run_submit(const GlobalOptions& global, const SubmitOptions& o) {
   const grpc::Status status = wire::submit_job(*stub, context, spec, raw, &response);
   if (!status.ok()) return report_rpc_error("submit", status, global);
   std::cout << response.job().id() << "\n" << std::flush;
+  std::cerr << "time scale: " << response.job().params().time_scale() << " per frame"
+            << (spec.params().time_scale() == 0 ? " (chosen from the data)" : "") << "\n";
   for (const auto& w : response.job().warnings()) std::cerr << "warning: " << w << "\n";
   if (!o.wait) return kExitOk;
 
@@ -123,7 +123,8 @@ void setup_submit_command(CLI::App& app, const GlobalOptions& global, int* exit_
                   "cleanup: pieces of a label (and pockets of background) smaller than this "
                   "many voxels take their neighbors' label; 0: none (default 81)");
   cmd->add_option("--time-scale", o->time_scale,
-                  "physical units per frame along t (for --frames; overrides a 4D file's)")
+                  "the length of one frame along t, in the image's spatial unit (default: "
+                  "chosen from the data, the larger of delta and the boundary's motion per frame)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--name", o->name, "a name shown in listings (default: the file)");
   cmd->add_option("--request-id", o->request_id, "idempotency key (default: random)");

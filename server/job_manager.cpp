@@ -5,12 +5,14 @@
 #include <malloc.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <random>
 #include <sstream>
 
 #include "domain/segmentation_cleanup.h"
 #include "domain/time_extension.h"
+#include "domain/time_scale.h"
 #include "job_log.h"
 #include "job_runner.h"
 #include "proto_convert.h"
@@ -174,6 +176,14 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
       << domain::kMaxTimeExtension;
     throw wire::ServiceError(wire::ErrorCode::invalid_argument, m.str());
   }
+  const double time_scale = spec.params().time_scale();
+  if (!std::isfinite(time_scale) || time_scale < 0) {
+    std::ostringstream m;
+    m << "params.time_scale " << time_scale
+      << " must be finite and > 0 (the length of one frame along t), or 0 to choose it from the "
+         "data";
+    throw wire::ServiceError(wire::ErrorCode::invalid_argument, m.str());
+  }
   if (params.vertex_budget > config_.max_vertex_budget) {
     std::ostringstream m;
     m << "params.vertex_budget " << params.vertex_budget << " is over this server's limit of "
@@ -190,7 +200,9 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
   stored.set_min_island_voxels(spec.params().has_min_island_voxels()
                                    ? spec.params().min_island_voxels()
                                    : domain::kDefaultMinIslandVoxels);
-  // A retry (same request_id) gets the first job back, but only when it asks for the same mesh.
+  stored.set_time_scale(time_scale);  // an automatic one is filled in once the image is read
+  // A retry (same request_id) gets the first job back, but only when it asks for the same mesh
+  // (an automatic time scale asks for the one the first job chose from the same image).
   auto duplicate = [&]() -> const Entry* {
     if (spec.request_id().empty()) return nullptr;
     const auto it = by_request_id_.find(spec.request_id());
@@ -198,7 +210,9 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
     const Entry& e = find(it->second);
     using google::protobuf::util::MessageDifferencer;
     const bool same_image = MessageDifferencer::Equals(e.job.image(), spec.image());
-    if (!same_image || !MessageDifferencer::Equals(e.job.params(), stored))
+    v1::RefineParams asked = stored;
+    if (time_scale == 0) asked.set_time_scale(e.job.params().time_scale());
+    if (!same_image || !MessageDifferencer::Equals(e.job.params(), asked))
       throw wire::ServiceError(wire::ErrorCode::already_exists,
                                "request_id '" + spec.request_id() + "' was already used for job " +
                                    e.job.id() + " with a different " +
@@ -211,7 +225,9 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
     if (const Entry* e = duplicate()) return {view(*e), true};
   }
   std::vector<std::string> warnings;
-  wire::decode_upload(spec.image(), data, &warnings);  // size, checksum and labels; throws
+  // Size, checksum and labels; throws.
+  const domain::LabelImage4 image = wire::decode_upload(spec.image(), data, &warnings);
+  if (time_scale == 0) stored.set_time_scale(domain::automatic_time_scale(image, params.delta));
 
   std::lock_guard lock(mu_);
   if (const Entry* e = duplicate()) return {view(*e), true};  // a concurrent retry won
@@ -545,9 +561,11 @@ void JobManager::run(const std::string& id) {
     params = to_engine(entry->job.params());
     preparation.extend_time_frames = entry->job.params().extend_time_frames();
     preparation.min_island_voxels = entry->job.params().min_island_voxels();
+    preparation.time_scale = entry->job.params().time_scale();
     strict = entry->job.params().strict();
   }
-  log_job(spdlog::level::info, id, "running");
+  log_job(spdlog::level::info, id, "running: delta {}, time scale {} per frame", params.delta,
+          preparation.time_scale);
   Sink sink(*this, *entry);
   std::string error;
   v1::JobState end = v1::JOB_STATE_FAILED;

@@ -36,6 +36,8 @@ JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& pa
   sink.on_progress(phase);
   domain::LabelImage4 image =
       wire::decode_upload(header, input, &out.warnings, preparation.extend_time_frames);
+  // The closing and the extension moved the origin by whole frames: it keeps its place in frames.
+  if (preparation.time_scale > 0) image.set_time_spacing(preparation.time_scale);
   for (const std::string& w : domain::clean_segmentation(image, preparation.min_island_voxels)
                                   .warnings(preparation.min_island_voxels))
     out.warnings.push_back(w);

@@ -24,9 +24,10 @@ struct JobOutcome {
   refine::FidelityCertificate certificate;  // the mesh against the image meshed
 };
 
-/// What is done to the image before it is meshed (RefineParams.extend_time_frames and
-/// .min_island_voxels in the proto).
+/// What is done to the image before it is meshed (RefineParams.time_scale, .extend_time_frames
+/// and .min_island_voxels in the proto).
 struct ImagePreparation {
+  double time_scale = 0;  // the length of a frame along t; 0: the header's spacing.t
   std::size_t extend_time_frames = 0;
   std::size_t min_island_voxels = 0;
 };

@@ -132,13 +132,6 @@ RestUpload decode_rest_upload(const std::string& body,
       upload.spec.set_name(value);
     } else if (key == "request_id") {
       upload.spec.set_request_id(value);
-    } else if (key == "time_scale") {
-      char* end = nullptr;
-      const double t = std::strtod(value.c_str(), &end);
-      if (value.empty() || end != value.c_str() + value.size())
-        throw wire::ServiceError(wire::ErrorCode::invalid_argument,
-                                 "time_scale '" + value + "' is not a number");
-      upload.spec.mutable_image()->mutable_spacing()->set_t(t);
     } else if (key != "format" && key != "access_token") {
       params[key] = json_value(value);
     }

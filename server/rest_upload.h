@@ -1,8 +1,8 @@
 // A REST submission as the job service takes it: the request body is an image file (NIfTI,
 // NRRD or MetaImage, as `curl --data-binary @heart.nii.gz` sends it), read with the engine's
 // ITK reader and encoded like the gRPC client's upload; the query string carries the
-// parameters, by their RefineParams field names, plus name, request_id, time_scale and format
-// (or a JSON object of them, as a "params" part or key).
+// parameters, by their RefineParams field names (time_scale among them), plus name, request_id
+// and format (or a JSON object of them, as a "params" part or key).
 #pragma once
 
 #include <cstdint>

@@ -42,6 +42,15 @@ LabelImage4::LabelImage4(const Dims4& dims, const Vec4& spacing, const Vec4& ori
   narrow_labels_.assign(voxel_count(), 0);
 }
 
+void LabelImage4::set_time_spacing(double spacing) {
+  Vec4 spacing4 = spacing_, origin = origin_;
+  spacing4[3] = spacing;
+  origin[3] = origin_[3] / spacing_[3] * spacing;
+  check_geometry(dims_, spacing4, origin);
+  spacing_ = spacing4;
+  origin_ = origin;
+}
+
 LabelImage4 LabelImage4::from_raw(const Dims4& dims, const Vec4& spacing, const Vec4& origin,
                                   LabelType type, const void* data, std::size_t bytes) {
   LabelImage4 image(dims, spacing, origin);

@@ -72,6 +72,9 @@ class LabelImage4 {
   }
   /// Physical bounding box of the voxel centers: {min corner, max corner}.
   std::array<Point4, 2> bounds() const;
+  /// Makes `spacing` the time scale, the origin keeping its place in frames (domain/time_scale.h).
+  /// Throws ImageError for a spacing that is not finite and positive.
+  void set_time_spacing(double spacing);
 
   /// Sorted distinct labels present, background included if present.
   std::vector<Label> labels() const;

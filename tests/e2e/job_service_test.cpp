@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <csignal>
 #include <future>
+#include <map>
 #include <optional>
 #include <set>
 #include <thread>
@@ -13,6 +14,7 @@
 #include "domain/phantoms.h"
 #include "domain/segmentation_cleanup.h"
 #include "domain/surface_oracle.h"
+#include "domain/time_scale.h"
 #include "mesh/mesh_check.h"
 #include "mesh/mesh_io.h"
 #include "mesh/mesh_slice.h"
@@ -25,9 +27,11 @@ domain::LabelImage4 small_sphere() {
   return domain::hypersphere_phantom({32, 32, 32, 32}, {1, 1, 1, 1}, 12);
 }
 
-// Fidelity of a fetched mesh: boundary vertices on ∂Ω, every region closed and manifold.
-void expect_fidelity(const mesh::Mesh4& m, const domain::LabelImage4& image) {
+// Fidelity of a fetched mesh: boundary vertices on ∂Ω of the image at the job's time scale,
+// every region closed and manifold.
+void expect_fidelity(const mesh::Mesh4& m, domain::LabelImage4 image, double time_scale) {
   ASSERT_GT(m.pentatopes.size(), 100u);
+  image.set_time_spacing(time_scale);
   const domain::SurfaceOracle oracle(image);
   for (const auto& b : m.boundary)
     for (auto v : b.vertices)
@@ -143,8 +147,15 @@ TEST(JobService, SubmitWatchFetchWithTheRealClient) {
                   std::chrono::seconds(120));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("JOB_STATE_SUCCEEDED"), std::string::npos) << r.output;
+  // The time scale chosen from the data, as the client prints it.
+  const std::string printed = "time scale: ";
+  const std::size_t at = r.output.find(printed);
+  ASSERT_NE(at, std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("per frame (chosen from the data)", at), std::string::npos) << r.output;
+  const double time_scale = std::stod(r.output.substr(at + printed.size()));
+  EXPECT_DOUBLE_EQ(time_scale, domain::automatic_time_scale(image, 3));
   const mesh::Mesh4 m = mesh::read_m4d(dir + "/out.m4d");
-  expect_fidelity(m, image);
+  expect_fidelity(m, image, time_scale);
 
   // The events, watched from the start of a second job through gRPC: a snapshot first, vertex
   // and rule counts that rise, the statistics, then SUCCEEDED.
@@ -236,11 +247,12 @@ TEST(JobService, ExtendedTimeKeepsTheEndFramesFaithful) {
     const std::string out = dir + "/extend" + frames + ".m4d";
     const RunResult r = run_command(
         {MESH4D_CLIENT_BIN, "--server", server.address(), "submit", dir + "/ventricle.nii.gz",
-         "--delta", "8", "--extend-time", frames, "--wait", "--out", out},
+         "--delta", "8", "--time-scale", "2", "--extend-time", frames, "--wait", "--out", out},
         std::chrono::seconds(120));
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_EQ(r.output.find("extend_time_frames") != std::string::npos, frames[0] != '0')
         << r.output;
+    EXPECT_NE(r.output.find("time scale: 2 per frame\n"), std::string::npos) << r.output;
     meshes.push_back(mesh::read_m4d(out));
   }
   double earliest = 1e300;
@@ -256,6 +268,7 @@ TEST(JobService, KilledServerResumesItsJobAndKeepsEarlierResults) {
   const std::string dir = make_temp_dir("mesh4d-restart");
   const auto image = small_sphere();
   std::string done_id, running_id;
+  std::map<std::string, double> time_scale;
   {
     RunningServer server(dir + "/data");
     auto stub = server.stub();
@@ -263,7 +276,9 @@ TEST(JobService, KilledServerResumesItsJobAndKeepsEarlierResults) {
     v1::SubmitJobResponse a;
     ASSERT_TRUE(submit(*stub, quick.spec, quick.data, &a).ok());
     done_id = a.job().id();
-    ASSERT_EQ(wait_until_done(*stub, done_id).state(), v1::JOB_STATE_SUCCEEDED);
+    const v1::Job done = wait_until_done(*stub, done_id);
+    ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED);
+    time_scale[done_id] = done.params().time_scale();
     const Upload slow = make_upload(image, 1.5, "slow");
     v1::SubmitJobResponse b;
     ASSERT_TRUE(submit(*stub, slow.spec, slow.data, &b).ok());
@@ -286,11 +301,12 @@ TEST(JobService, KilledServerResumesItsJobAndKeepsEarlierResults) {
   auto stub = restarted.stub();
   const v1::Job finished = wait_until_done(*stub, running_id);
   EXPECT_EQ(finished.state(), v1::JOB_STATE_SUCCEEDED) << finished.error();
+  time_scale[running_id] = finished.params().time_scale();
   for (const auto& id : {done_id, running_id}) {
     const RunResult fetch = run_command({MESH4D_CLIENT_BIN, "--server", restarted.address(),
                                          "fetch", id, "--out", dir + "/" + id + ".m4d"});
     ASSERT_EQ(fetch.exit_code, 0) << fetch.output;
-    expect_fidelity(mesh::read_m4d(dir + "/" + id + ".m4d"), image);
+    expect_fidelity(mesh::read_m4d(dir + "/" + id + ".m4d"), image, time_scale.at(id));
   }
   // The same request id after the restart still finds the same job.
   const Upload again = make_upload(image, 1.5, "slow");

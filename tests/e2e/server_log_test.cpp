@@ -6,6 +6,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <string>
 
 #include "domain/phantoms.h"
 #include "server_fixture.h"
@@ -28,6 +29,7 @@ std::vector<nlohmann::json> read_json_lines(const std::string& path) {
 TEST(ServerLog, OneJsonObjectPerLineWithTheJobId) {
   const std::string dir = make_temp_dir("mesh4d-log");
   std::string id;
+  double time_scale = 0;
   {
     RunningServer server(dir + "/data");
     ASSERT_FALSE(server.address().empty());
@@ -37,7 +39,9 @@ TEST(ServerLog, OneJsonObjectPerLineWithTheJobId) {
     v1::SubmitJobResponse response;
     ASSERT_TRUE(submit(*stub, u.spec, u.data, &response).ok());
     id = response.job().id();
-    EXPECT_EQ(wait_until_done(*stub, id).state(), v1::JOB_STATE_SUCCEEDED);
+    const v1::Job done = wait_until_done(*stub, id);
+    EXPECT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED);
+    time_scale = done.params().time_scale();
     EXPECT_EQ(server.process().stop(SIGTERM), 0);
   }
   const auto lines = read_json_lines(dir + "/data.log");
@@ -52,7 +56,12 @@ TEST(ServerLog, OneJsonObjectPerLineWithTheJobId) {
   // Queued, running, succeeded: each a line of its own, with the id as a field.
   ASSERT_EQ(about_job.size(), 3u) << ::testing::PrintToString(about_job);
   EXPECT_EQ(about_job[0].rfind("queued", 0), 0u) << about_job[0];
-  EXPECT_EQ(about_job[1], "running");
+  // The time scale the job used, chosen from the data (no time scale was asked for).
+  EXPECT_GT(time_scale, 0);
+  const std::string running = "running: delta 3, time scale ";
+  ASSERT_EQ(about_job[1].rfind(running, 0), 0u) << about_job[1];
+  EXPECT_DOUBLE_EQ(std::stod(about_job[1].substr(running.size())), time_scale) << about_job[1];
+  EXPECT_NE(about_job[1].find(" per frame"), std::string::npos) << about_job[1];
   EXPECT_EQ(about_job[2].rfind("succeeded", 0), 0u) << about_job[2];
   EXPECT_EQ(about_job[2].find(id), std::string::npos) << "the id belongs in the field";
 }
