@@ -31,6 +31,7 @@
 #include "mesh/mesh_check.h"
 #include "refine/fidelity_certificate.h"
 #include "refine/refiner.h"
+#include "refine/time_caps.h"
 #include "refine/two_sided_distance.h"
 
 using namespace mesh4d;
@@ -49,6 +50,9 @@ using mesh4d::bench::status_kb;
 // --min-island-voxels N: the segmentation cleanup's threshold (the service's default otherwise;
 // 0: none).
 std::size_t g_min_island_voxels = domain::kDefaultMinIslandVoxels;
+// --time-caps off: the image closed with background half a frame past its ends, as before the
+// time caps (refine/time_caps.h), for comparison.
+bool g_time_caps = true;
 
 // Runs in a child: the cleanup, oracle and refinement of `image` with `params`; fixed-size
 // results only.
@@ -71,12 +75,17 @@ struct Flat {
 
 Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& params) {
   const auto result = mesh4d::bench::run_in_child<Flat>([&] {
+    // As a job prepares it: cleaned, then closed (with the time caps' ghost frames, unless
+    // --time-caps off).
     domain::LabelImage4 closed = image;
-    domain::validate_and_close(closed);
     domain::clean_segmentation(closed, g_min_island_voxels);
-    const domain::SurfaceOracle oracle(closed);
-    refine::Refiner refiner(oracle, params);
-    const auto r = refiner.run();
+    std::vector<std::string> warnings;
+    const auto r = [&] {
+      if (g_time_caps) return refine::refine_with_time_caps(closed, params, nullptr, &warnings);
+      domain::validate_and_close(closed);
+      const domain::SurfaceOracle oracle(closed);
+      return refine::refine(oracle, params);
+    }();
     const mesh::BoundaryCheck check = mesh::check_boundary(r.mesh);
     const std::uint64_t off_surface = check.non_feature_uses, pinched = check.pinched;
     Flat out{r.stats.vertices,
@@ -240,6 +249,7 @@ void print_over_seeds() {
 
 int main(int argc, char** argv) {
   for (int i = 1; i + 1 < argc; i += 2) {
+    if (std::strcmp(argv[i], "--time-caps") == 0) g_time_caps = std::strcmp(argv[i + 1], "off");
     if (std::strcmp(argv[i], "--only") == 0) g_only = argv[i + 1];
     if (std::strcmp(argv[i], "--min-island-voxels") == 0)
       g_min_island_voxels = std::strtoull(argv[i + 1], nullptr, 10);

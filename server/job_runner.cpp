@@ -1,9 +1,12 @@
 #include "job_runner.h"
 
+#include <sstream>
+
 #include "domain/segmentation_cleanup.h"
 #include "domain/surface_oracle.h"
 #include "mesh/mesh_io.h"
 #include "refine/refiner.h"
+#include "refine/time_caps.h"
 #include "wire/upload_codec.h"
 
 namespace mesh4d::server {
@@ -35,20 +38,25 @@ JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& pa
   phase.phase = refine::Phase::loading;
   sink.on_progress(phase);
   domain::LabelImage4 image =
-      wire::decode_upload(header, input, &out.warnings, preparation.extend_time_frames);
-  // The closing and the extension moved the origin by whole frames: it keeps its place in frames.
+      wire::decode_unclosed(header, input, &out.warnings, preparation.extend_time_frames);
+  // The extension moved the origin by whole frames: it keeps its place in frames.
   if (preparation.time_scale > 0) image.set_time_spacing(preparation.time_scale);
   for (const std::string& w : domain::clean_segmentation(image, preparation.min_island_voxels)
                                   .warnings(preparation.min_island_voxels))
     out.warnings.push_back(w);
+  if (image.labels().size() < 2) {
+    std::ostringstream why;
+    why << "image has a single label everywhere after the segmentation cleanup: there is no "
+           "surface to mesh (every piece was smaller than min_island_voxels = "
+        << preparation.min_island_voxels << ")";
+    throw domain::ImageError(why.str());
+  }
   if (sink.should_abort()) throw refine::Cancelled();
   phase.phase = refine::Phase::distance_map;
   sink.on_progress(phase);
-  const domain::SurfaceOracle oracle(image);
-  if (sink.should_abort()) throw refine::Cancelled();
-  refine::Refiner refiner(oracle, params);
   LastProgress refining(sink);
-  refine::RefineResult result = refiner.run(&refining);
+  refine::RefineResult result =
+      refine::refine_with_time_caps(image, params, &refining, &out.warnings);
   phase = refining.last;
   phase.phase = refine::Phase::writing;
   sink.on_progress(phase);

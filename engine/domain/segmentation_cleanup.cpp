@@ -32,6 +32,17 @@ std::vector<std::string> CleanupReport::warnings(std::size_t min_voxels) const {
 
 namespace {
 
+// How many of voxel i's faces lie on the image's border.
+std::size_t border_faces(const Dims4& d, std::size_t i) {
+  std::size_t faces = 0;
+  for (int a = 0; a < 4; ++a) {
+    const std::size_t c = i % d[a];
+    i /= d[a];
+    faces += (c == 0) + (c + 1 == d[a]);
+  }
+  return faces;
+}
+
 // Every face-connected piece below min_voxels to the label most of its face neighbors have.
 void remove_small_pieces(LabelImage4& image, std::size_t min_voxels, CleanupReport& report) {
   const FacePieces found = face_pieces(image);
@@ -63,12 +74,16 @@ void remove_small_pieces(LabelImage4& image, std::size_t min_voxels, CleanupRepo
   std::map<Label, CleanupReport::PerLabel> removed;
   for (std::size_t k = 0; k < small.size(); ++k) {
     const Label from = found.pieces[small[k]].label;
-    // The label most of its face neighbors outside it have now (ties: the smaller label).
+    // The label most of its face neighbors outside it have now (ties: the smaller label); past
+    // the image's border is background, as the label function has it, so that an image closed
+    // or not is cleaned alike.
     std::map<Label, std::size_t> votes;
-    for (std::size_t v = first[k]; v < first[k + 1]; ++v)
+    for (std::size_t v = first[k]; v < first[k + 1]; ++v) {
       for_each_face_neighbor(image, voxels[v], [&](std::size_t j) {
         if (found.piece[j] != small[k]) ++votes[image.at(j)];
       });
+      votes[0] += border_faces(image.dims(), voxels[v]);
+    }
     Label to = from;
     std::size_t best = 0;
     for (const auto& [l, n] : votes)

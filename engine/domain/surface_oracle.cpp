@@ -21,7 +21,7 @@ Point4 lerp(const Point4& a, const Point4& b, double s) {
 
 }  // namespace
 
-SurfaceOracle::SurfaceOracle(const LabelImage4& image)
+SurfaceOracle::SurfaceOracle(const LabelImage4& image, const TimeCaps& caps)
     : image_(image), feature_(feature_transform(image)), uniform_(image) {
   if (feature_.empty() || feature_[0] == kNoFeature)
     throw ImageError("image has a single label everywhere: there is no surface to mesh");
@@ -48,7 +48,15 @@ SurfaceOracle::SurfaceOracle(const LabelImage4& image)
             break;
           }
       }
-  offset_ = label_offsets(image.labels());
+  const auto twin = [&](Label l) { return caps.is_ghost(l) ? caps.real_of[l] : Label{0}; };
+  std::vector<Label> ranked;
+  for (Label l : image.labels())
+    if (twin(l) == 0) ranked.push_back(l);
+  offset_ = label_offsets(ranked);
+  const std::vector<Label> labels = image.labels();
+  offset_.resize(std::max<std::size_t>(offset_.size(), labels.back() + 1u), 0.0);
+  for (Label l : labels)
+    if (twin(l) != 0) offset_[l] = offset(twin(l));
   pieces_ = label_function_pieces(image);
 }
 

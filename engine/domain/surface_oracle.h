@@ -23,6 +23,7 @@
 
 #include "domain/face_components.h"
 #include "domain/label_image.h"
+#include "domain/time_caps.h"
 #include "domain/uniform_cells.h"
 
 namespace mesh4d::domain {
@@ -43,8 +44,10 @@ struct SurfaceBracket {
 class SurfaceOracle {
  public:
   /// Keeps a reference to `image` (which must outlive the oracle) and computes its feature
-  /// transform. Throws ImageError when the image has a single label (no surface).
-  explicit SurfaceOracle(const LabelImage4& image);
+  /// transform. Throws ImageError when the image has a single label (no surface). With time
+  /// caps (time_caps.h), a ghost label takes its real label's offset β and has no rank of its
+  /// own, so that the two tie exactly on the cap's hyperplane, where they weigh alike.
+  explicit SurfaceOracle(const LabelImage4& image, const TimeCaps& caps = {});
 
   const LabelImage4& image() const { return image_; }
 

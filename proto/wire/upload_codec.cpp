@@ -92,9 +92,13 @@ std::uint64_t check_header(const v1::ImageHeader& h) {
   return expected;
 }
 
-domain::LabelImage4 decode_upload(const v1::ImageHeader& h, std::string_view data,
-                                  std::vector<std::string>* warnings,
-                                  std::size_t extend_time_frames) {
+namespace {
+
+// The checked data as an image, with its end frames repeated; closed (and its labels checked)
+// when `close`.
+domain::LabelImage4 decode(const v1::ImageHeader& h, std::string_view data,
+                           std::size_t extend_time_frames, bool close,
+                           std::vector<std::string>* warnings) {
   const std::uint64_t expected = check_header(h);
   if (data.size() != expected) {
     std::ostringstream m;
@@ -110,7 +114,8 @@ domain::LabelImage4 decode_upload(const v1::ImageHeader& h, std::string_view dat
         {h.origin().x(), h.origin().y(), h.origin().z(), h.origin().t()},
         engine_type(h.label_type()), data.data(), data.size());
     if (extend_time_frames > 0) image = domain::extend_time(image, extend_time_frames);
-    auto w = domain::validate_and_close(image);
+    std::vector<std::string> w;
+    if (close) w = domain::validate_and_close(image);
     if (extend_time_frames > 0) {
       std::ostringstream m;
       m << "the first and last frames were repeated " << extend_time_frames
@@ -122,6 +127,20 @@ domain::LabelImage4 decode_upload(const v1::ImageHeader& h, std::string_view dat
   } catch (const domain::ImageError& e) {
     bad(e.what());
   }
+}
+
+}  // namespace
+
+domain::LabelImage4 decode_upload(const v1::ImageHeader& h, std::string_view data,
+                                  std::vector<std::string>* warnings,
+                                  std::size_t extend_time_frames) {
+  return decode(h, data, extend_time_frames, true, warnings);
+}
+
+domain::LabelImage4 decode_unclosed(const v1::ImageHeader& h, std::string_view data,
+                                    std::vector<std::string>* warnings,
+                                    std::size_t extend_time_frames) {
+  return decode(h, data, extend_time_frames, false, warnings);
 }
 
 }  // namespace mesh4d::wire

@@ -30,4 +30,10 @@ domain::LabelImage4 decode_upload(const v1::ImageHeader& header, std::string_vie
                                   std::vector<std::string>* warnings,
                                   std::size_t extend_time_frames = 0);
 
+/// The same, the image not closed and its labels not yet checked: meshing with time caps
+/// closes it after adding their ghost frames (refine/time_caps.h).
+domain::LabelImage4 decode_unclosed(const v1::ImageHeader& header, std::string_view data,
+                                    std::vector<std::string>* warnings,
+                                    std::size_t extend_time_frames = 0);
+
 }  // namespace mesh4d::wire

@@ -157,6 +157,33 @@ TEST(SegmentationCleanup, FacePiecesAreTheLabelFunctionsAfterIt) {
   EXPECT_GT(filled, 100u);
 }
 
+// Past the image's border is background, for the votes too: meshing with time caps cleans the
+// image before closing it, and must get what cleaning the closed image gives.
+TEST(SegmentationCleanup, AnImageIsCleanedAlikeClosedOrNot) {
+  // A voxel of label 2 in a corner, among label 1: four faces on label 1, four on the border
+  // (background once closed); the tie goes to the smaller label, the background.
+  LabelImage4 corner({4, 4, 4, 4}, {1, 1, 1, 1});
+  for (std::size_t i = 0; i < corner.voxel_count(); ++i) corner.set(i, i == 0 ? 2 : 1);
+  std::vector<std::pair<std::string, LabelImage4>> images{{"corner", corner}};
+  for (const char* name : {"thin-wall", "checkerboard", "island", "moving-junction"})
+    images.emplace_back(name, make_phantom(name));
+  images.emplace_back("ventricle", beating_ventricle_phantom({40, 40, 16, 6}, {4, 4, 12, 1}));
+  for (const auto& [name, image] : images) {
+    LabelImage4 closed_first = image, cleaned_first = image;
+    validate_and_close(closed_first);
+    clean_segmentation(closed_first, 81);
+    clean_segmentation(cleaned_first, 81);
+    validate_and_close(cleaned_first);
+    ASSERT_EQ(closed_first.dims(), cleaned_first.dims()) << name;
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < closed_first.voxel_count(); ++i)
+      differ += closed_first.at(i) != cleaned_first.at(i);
+    EXPECT_EQ(differ, 0u) << name;
+  }
+  clean_segmentation(corner, 81);
+  EXPECT_EQ(corner.at(0), 0) << "the corner voxel went to the background";
+}
+
 TEST(SegmentationCleanup, PatientsPiecesBySize) {
   const std::filesystem::path dir(MESH4D_HEART_DATA_DIR);
   if (!std::filesystem::exists(dir / "Pat01_mse4d_label4d.nii.gz"))

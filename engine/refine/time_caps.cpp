@@ -1,0 +1,63 @@
+#include "refine/time_caps.h"
+
+#include <limits>
+
+#include "domain/surface_oracle.h"
+
+namespace mesh4d::refine {
+
+RefineResult refine_with_time_caps(const domain::LabelImage4& image, const RefineParams& params,
+                                   ProgressSink* sink, std::vector<std::string>* warnings) {
+  domain::TimeCaps caps;
+  std::string caps_warning;
+  domain::LabelImage4 capped = domain::add_time_caps(
+      image, domain::cap_frames(params.delta, image.spacing()[3]), &caps, &caps_warning);
+  for (std::string& w : domain::validate_and_close(capped)) warnings->push_back(std::move(w));
+  if (!caps_warning.empty()) warnings->push_back(caps_warning);
+  const domain::SurfaceOracle oracle(capped, caps);
+  RefineResult result = refine(oracle, params, sink);
+  drop_ghosts(result, caps, params.threads);
+  return result;
+}
+
+void drop_ghosts(RefineResult& result, const domain::TimeCaps& caps, unsigned threads) {
+  if (caps.frames == 0) return;
+  constexpr auto kDropped = std::numeric_limits<std::uint32_t>::max();
+  const mesh::Mesh4& in = result.mesh;
+  mesh::Mesh4 out;
+  std::vector<std::uint32_t> pentatope_index(in.pentatopes.size(), kDropped);
+  std::vector<std::uint32_t> vertex_index(in.vertices.size(), kDropped);
+  for (std::size_t p = 0; p < in.pentatopes.size(); ++p)
+    if (!caps.is_ghost(in.labels[p]))
+      for (std::uint32_t v : in.pentatopes[p]) vertex_index[v] = 0;
+  // Vertices keep their order.
+  for (std::size_t v = 0; v < in.vertices.size(); ++v) {
+    if (vertex_index[v] == kDropped) continue;
+    vertex_index[v] = static_cast<std::uint32_t>(out.vertices.size());
+    out.vertices.push_back(in.vertices[v]);
+    out.vertex_kinds.push_back(in.vertex_kinds[v]);
+  }
+  for (std::size_t p = 0; p < in.pentatopes.size(); ++p) {
+    if (caps.is_ghost(in.labels[p])) continue;
+    pentatope_index[p] = static_cast<std::uint32_t>(out.pentatopes.size());
+    auto pentatope = in.pentatopes[p];
+    for (std::uint32_t& v : pentatope) v = vertex_index[v];
+    out.pentatopes.push_back(pentatope);
+    out.labels.push_back(in.labels[p]);
+  }
+  for (mesh::BoundaryTetrahedron b : in.boundary) {
+    if (pentatope_index[b.pentatope] == kDropped) continue;
+    b.pentatope = pentatope_index[b.pentatope];
+    for (std::uint32_t& v : b.vertices) v = vertex_index[v];
+    if (caps.is_ghost(b.outer)) b.outer = 0;
+    out.boundary.push_back(b);
+  }
+  result.mesh = std::move(out);
+  const mesh::MeshStats kept = result.stats;
+  result.stats = mesh::compute_stats(result.mesh, threads);
+  result.stats.insertions = kept.insertions;
+  result.stats.removals = kept.removals;
+  result.stats.elapsed_seconds = kept.elapsed_seconds;
+}
+
+}  // namespace mesh4d::refine
