@@ -6,8 +6,8 @@
 // R3 first; Pat1 at δ = 5: 49,479 pentatopes, 4,709 vertices, 30,758 boundary tetrahedra.
 // The five patients of ../shared/data/heart4d (when present) at δ = 5, with the files' spacing
 // (all 25 frames), with the default time scale (all 25 frames) and with the paper's spacing
-// (1.77, 1.77, 6, 1; first 15 frames). Then Pat01's whole cycle against each frame meshed alone
-// by CGAL Mesh_3 (frames_comparison.h).
+// (1.77, 1.77, 6, 1; first 15 frames). Then each patient's whole cycle, as a job with `--delta 5`
+// alone meshes it, against each frame meshed alone by CGAL Mesh_3 (frames_comparison.h).
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -315,9 +315,21 @@ int main(int argc, char** argv) {
     row((name + ", paper spacing, 15 frames").c_str(), paper, 5, refine::RuleOrder::r3_first);
   }
   print_over_seeds();
-  const std::string pat01 = dir + "/Pat01_mse4d_label4d.nii.gz";
-  if (std::ifstream(pat01) && (g_only.empty() || g_only == "Mesh_3"))
-    mesh4d::bench::compare_with_mesh3_frames("Pat01 (files' spacing, 25 frames)",
-                                             domain::read_label_image(pat01), 5);
+  // Each patient's frames against Mesh_3's (the per-frame table for Pat01), then one row each.
+  if (g_only.empty() || g_only == "Mesh_3") {
+    std::vector<std::pair<std::string, mesh4d::bench::FramesSummary>> summaries;
+    for (int patient = 1; patient <= 5; ++patient) {
+      const std::string name = "Pat0" + std::to_string(patient);
+      const std::string file = dir + "/" + name + "_mse4d_label4d.nii.gz";
+      if (!std::ifstream(file)) break;
+      summaries.emplace_back(name,
+                             mesh4d::bench::compare_with_mesh3_frames(
+                                 name.c_str(), domain::read_label_image(file), 5, patient == 1));
+    }
+    summaries.emplace_back("ventricle",
+                           mesh4d::bench::compare_with_mesh3_frames(
+                               "ventricle", domain::beating_ventricle_phantom(), 5, false));
+    mesh4d::bench::print_frames_summaries(summaries, 5);
+  }
   return 0;
 }
