@@ -25,6 +25,8 @@ int run_status(const GlobalOptions& global, const std::string& id) {
   const grpc::Status status = stub->GetJob(&context, request, &job);
   if (!status.ok()) return report_rpc_error("status " + id, status, global);
   print_job_line(std::cout, job);
+  std::cout << "  delta " << job.params().delta() << ", time scale " << job.params().time_scale()
+            << " per frame\n";
   if (job.state() == v1::JOB_STATE_SUCCEEDED) print_stats(std::cout, job.stats());
   for (const auto& w : job.warnings()) std::cout << "  warning: " << w << "\n";
   return kExitOk;

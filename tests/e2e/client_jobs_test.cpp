@@ -69,6 +69,15 @@ TEST(ClientJobs, EachSubcommandOnRealJobsThenWithoutAServer) {
   ASSERT_EQ(done.exit_code, 0) << done.output;
   EXPECT_NE(done.output.find("SUCCEEDED"), std::string::npos) << done.output;
   EXPECT_NE(done.output.find("radius-edge ratio"), std::string::npos) << done.output;
+  // The time scale the job chose, as submit printed it.
+  const std::string scale_printed = "time scale: ";
+  const std::size_t at = short_job.output.find(scale_printed);
+  ASSERT_NE(at, std::string::npos) << short_job.output;
+  const std::string scale = short_job.output.substr(
+      at + scale_printed.size(),
+      short_job.output.find(' ', at + scale_printed.size()) - at - scale_printed.size());
+  EXPECT_NE(done.output.find("  delta 3, time scale " + scale + " per frame\n"), std::string::npos)
+      << done.output;
   EXPECT_EQ(client({"list", "--state", "succeeded"}).output.find(long_id), std::string::npos);
   const RunResult fetched = client({"fetch", id, "--out", dir + "/sphere.m4d"});
   ASSERT_EQ(fetched.exit_code, 0) << fetched.output;
