@@ -116,8 +116,8 @@ void setup_submit_command(CLI::App& app, const GlobalOptions& global, int* exit_
   cmd->add_option("--rho", o->rho, "radius-edge bound ρ̄")->check(CLI::PositiveNumber);
   cmd->add_option("--threads", o->threads, "worker threads for this job (capped by the server)");
   cmd->add_option("--extend-time", o->extend_time,
-                  "repeat the first and last frames N times so that they are meshed faithfully "
-                  "(about delta / time scale; the mesh spans N more frames at each end)")
+                  "repeat the first and last frames N times before meshing: the mesh spans N "
+                  "more frames at each end")
       ->check(CLI::Range(0u, 64u));
   cmd->add_option("--min-island-voxels", o->min_island_voxels,
                   "cleanup: pieces of a label (and pockets of background) smaller than this "
