@@ -28,6 +28,14 @@ struct Mesh4 {
   std::vector<std::array<std::uint32_t, 5>> pentatopes;
   std::vector<Label> labels;  // one per pentatope, never 0
   std::vector<BoundaryTetrahedron> boundary;
+  // Periodic time (docs/mesh-format.md): the pentatopes represent the cycle from period_start
+  // to period_start + period, each anchored (its lowest vertex) in that span. One that crosses
+  // its end has vertices past it, each glued to the vertex one period earlier:
+  // periodic_twins holds {later, earlier} for each. period 0: time is open.
+  double period_start = 0;
+  double period = 0;
+  std::vector<std::array<std::uint32_t, 2>> periodic_twins;
+  bool periodic() const { return period > 0; }
 };
 
 }  // namespace mesh4d::mesh

@@ -1,11 +1,13 @@
 // Extraction: the output mesh from the final triangulation, on the job's threads. The output is
 // the finite pentatopes whose circumcenter lies inside a label, tagged with it, in cell order;
 // their vertices in vertex-id order; and the boundary tetrahedra (facets between a kept
-// pentatope and a neighbor of another label, or none) in the order of their pentatopes.
+// pentatope and a neighbor of another label, or none) in the order of their pentatopes. In
+// periodic time, the representatives only, with the twins of the vertices past the period.
 #include "refine/extraction.h"
 
 #include <algorithm>
 #include <atomic>
+#include <stdexcept>
 
 #include "support/parallel_parts.h"
 
@@ -36,6 +38,7 @@ mesh::Mesh4 extract(const RefinementState& state, std::vector<std::string>& warn
   // Pass 1, by shares of the cell slots: every pentatope's label, which are kept, and which
   // vertices they use (several threads may mark one vertex: atomic stores of the same value).
   std::vector<domain::Label> label(slots, 0);
+  std::vector<std::uint8_t> kept_cell(slots, 0);
   std::vector<std::uint8_t> used(st.vertex_slots(), 0);
   std::vector<std::size_t> first(parts + 1, 0);  // output index of each share's first pentatope
   support::run_parts(parts, [&](unsigned part) {
@@ -44,13 +47,30 @@ mesh::Mesh4 extract(const RefinementState& state, std::vector<std::string>& warn
     for (CellId c = static_cast<CellId>(begin); c < end; ++c) {
       if (!st.is_live(c) || st.is_infinite(c) || !state.info[c].finite) continue;
       label[c] = state.label_of(c);
-      if (label[c] == 0) continue;
+      // In periodic time only each class's representative is output; its label is the one its
+      // neighbours see in every sheet.
+      if (label[c] == 0 || !state.covering.representative(state.tri, c)) continue;
       ++kept;
+      kept_cell[c] = 1;
       for (VertexId v : st.cell(c).v) std::atomic_ref(used[v]).store(1, std::memory_order_relaxed);
     }
     first[part + 1] = kept;
   });
   for (unsigned p = 0; p < parts; ++p) first[p + 1] += first[p];
+
+  // In periodic time, a vertex past the middle sheet is glued to its twin one period earlier,
+  // which the mesh then holds too.
+  std::vector<VertexId> earlier;
+  if (state.covering.active()) {
+    for (VertexId v = 0; v < st.vertex_slots(); ++v) {
+      if (!used[v] || state.covering.in_middle(st.point(v)[3])) continue;
+      const VertexId e = state.covering.twin(state.tri, v, -1);
+      if (e == delaunay::kNoVertex)
+        throw std::logic_error("Refiner: a vertex past the period has no twin one period earlier");
+      earlier.push_back(v);
+      used[e] = 1;
+    }
+  }
 
   // The vertices, numbered in id order (one pass over a byte per vertex).
   mesh::Mesh4 mesh;
@@ -71,7 +91,7 @@ mesh::Mesh4 extract(const RefinementState& state, std::vector<std::string>& warn
     const auto [begin, end] = support::part_range(slots, part, parts);
     std::size_t out = first[part];
     for (CellId c = static_cast<CellId>(begin); c < end; ++c) {
-      if (label[c] == 0) continue;
+      if (!kept_cell[c]) continue;
       const auto& cell = st.cell(c);
       const auto index = static_cast<std::uint32_t>(out++);
       for (int i = 0; i < 5; ++i) mesh.pentatopes[index][i] = vertex_index[cell.v[i]];
@@ -92,6 +112,13 @@ mesh::Mesh4 extract(const RefinementState& state, std::vector<std::string>& warn
   });
   for (const auto& share : boundary)
     mesh.boundary.insert(mesh.boundary.end(), share.begin(), share.end());
+  if (state.covering.active()) {
+    mesh.period_start = state.covering.period().start;
+    mesh.period = state.covering.period().length;
+    for (VertexId v : earlier)
+      mesh.periodic_twins.push_back(
+          {vertex_index[v], vertex_index[state.covering.twin(state.tri, v, -1)]});
+  }
 
   if (mesh.pentatopes.empty())
     warnings.push_back(

@@ -130,8 +130,10 @@ std::vector<NonManifoldVertex> find_non_manifold_vertices(const RefinementState&
       }
   }
   std::vector<VertexId> boundary;
+  // In periodic time the middle sheet's vertices stand for all: their links are the glued
+  // mesh's (the labels are the same in every sheet).
   for (VertexId v = 0; v < st.vertex_slots(); ++v)
-    if (first[v + 1]) boundary.push_back(v);
+    if (first[v + 1] && state.covering.counts(st.point(v)[3])) boundary.push_back(v);
   std::vector<std::uint8_t> marked(st.vertex_slots(), 0);
   for (VertexId v : boundary) marked[v] = 1, first[v + 1] = 0;
   for (CellId c = 0; c < slots; ++c)

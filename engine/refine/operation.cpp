@@ -1,6 +1,7 @@
 #include "refine/operation.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -23,6 +24,8 @@ void Operation::admit(Worker& w, const std::vector<CellId>& cells) {
 
 void Operation::enqueue(Worker& w, CellId c) {
   if (!state_.tri.store().is_live(c) || state_.tri.store().is_infinite(c)) return;
+  // In periodic time the rules run on each class's representative; its copies follow.
+  if (!state_.covering.rules_apply(state_.tri, c)) return;
   const int rule = index_of(rules_.quick_rule(c));
   if (rule == index_of(Rule::none)) return;
   Candidate k{c, {}};
@@ -38,6 +41,44 @@ void Operation::enqueue(Worker& w, CellId c) {
 
 Outcome Operation::insert(Worker& w, const Point4& point, VertexKind kind, CellId hint, Rule rule,
                           const Point4* sample, double clearance) {
+  if (state_.covering.active()) return insert_copies(w, point, kind, hint, rule, sample, clearance);
+  return insert_one(w, point, kind, hint, rule, sample, clearance);
+}
+
+Outcome Operation::insert_copies(Worker& w, const Point4& point, VertexKind kind, CellId hint,
+                                 Rule rule, const Point4* sample, double clearance) {
+  if (w.guard) throw std::logic_error("Refiner: periodic time refines on one thread");
+  // A point from the covering's cut-off ends would copy an artefact into the middle sheet.
+  if (!state_.covering.trusted(point)) return Outcome::skipped;
+  const auto& st = state_.tri.store();
+  const std::array<Point4, 3> copies = state_.covering.copies(point);
+  Outcome first = Outcome::skipped;
+  for (int s = 0; s < 3; ++s) {
+    // The hint pentatope lies in one sheet: the walk to the other copies starts from the
+    // pentatope the last insertion made in theirs.
+    CellId start = hint;
+    if (start == delaunay::kNoCell || !st.is_live(start) ||
+        std::abs(st.point(st.cell(start).v[0] == kInfiniteVertex ? st.cell(start).v[1]
+                                                                 : st.cell(start).v[0])[3] -
+                 copies[s][3]) > state_.covering.period().length / 2)
+      start = sheet_hint_[s];
+    // Only the middle copy's sample is checked: the index holds every copy of each feature.
+    Point4 shifted_sample;
+    if (sample) shifted_sample = *sample, shifted_sample[3] += copies[s][3] - point[3];
+    const Outcome o = insert_one(w, copies[s], kind, start, rule,
+                                 sample && s == 0 ? &shifted_sample : nullptr, clearance);
+    if (o == Outcome::done) {
+      sheet_hint_[s] = w.fresh.empty() ? delaunay::kNoCell : w.fresh.front();
+    } else if (s == 0 && o == Outcome::conflict) {
+      return o;  // a feature already within the sample's ball: none of the copies goes in
+    }
+    if (s == 0) first = o;
+  }
+  return first;
+}
+
+Outcome Operation::insert_one(Worker& w, const Point4& point, VertexKind kind, CellId hint,
+                              Rule rule, const Point4* sample, double clearance) {
   if (state_.tri.number_of_vertices() >= state_.params.vertex_budget) {
     std::ostringstream s;
     s << "refinement needs more than the vertex budget of " << state_.params.vertex_budget
@@ -73,6 +114,7 @@ Outcome Operation::insert(Worker& w, const Point4& point, VertexKind kind, CellI
   if (observer_) observer_->before_commit(w, rule == Rule::R5);
   const VertexId v = state_.tri.new_vertex(point, kind, w.guard ? w.locks.owner() : 0);
   if (w.guard) w.locks.adopt(v);
+  if (state_.covering.active()) state_.covering.add(v, point);
   state_.tri.commit(w.ws->cavity, v, *w.ws);
   w.insertions[index_of(rule)].fetch_add(1, std::memory_order_relaxed);
   w.created.clear();

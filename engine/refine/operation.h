@@ -53,6 +53,8 @@ class Operation {
   /// the index's lock, since another thread may have added one since. Outcome::skipped when p
   /// is already a vertex; conflict on another thread's lock or a feature now in the ball.
   /// Throws BudgetExceeded past RefineParams::vertex_budget.
+  /// In periodic time, p's three copies go in (PeriodicCovering::copies), one thread only;
+  /// skipped for a point outside the trusted band.
   Outcome insert(Worker& w, const Point4& p, delaunay::VertexKind kind, delaunay::CellId hint,
                  Rule rule, const Point4* sample = nullptr, double clearance = -1);
   /// New pentatopes: their info first (the R5 check reads neighbors' infos), then queued.
@@ -60,6 +62,10 @@ class Operation {
 
  private:
   void enqueue(Worker& w, delaunay::CellId c);
+  Outcome insert_one(Worker& w, const Point4& p, delaunay::VertexKind kind, delaunay::CellId hint,
+                     Rule rule, const Point4* sample, double clearance);
+  Outcome insert_copies(Worker& w, const Point4& p, delaunay::VertexKind kind,
+                        delaunay::CellId hint, Rule rule, const Point4* sample, double clearance);
   // The free vertices of the cavity closer than Δ to p (R5 removes them), into w.near; in a
   // parallel phase their stars are claimed too. False on a conflict.
   bool claim_free_vertices_near(Worker& w, const Point4& p);
@@ -67,6 +73,9 @@ class Operation {
   RefinementState& state_;
   Rules& rules_;
   FacetObserver* observer_ = nullptr;
+  // In periodic time, a pentatope made by the last insertion in each sheet: where the next
+  // copy's walk starts (the hint pentatope lies in one sheet only).
+  delaunay::CellId sheet_hint_[3] = {delaunay::kNoCell, delaunay::kNoCell, delaunay::kNoCell};
 };
 
 }  // namespace mesh4d::refine

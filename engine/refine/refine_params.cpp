@@ -32,6 +32,9 @@ void validate(const RefineParams& p) {
   require(std::isfinite(p.junction_spacing) && p.junction_spacing >= 0 && p.junction_spacing <= 1,
           "junction_spacing", p.junction_spacing, "must be in [0, 1] (0: off)");
   require(p.threads >= 1 && p.threads <= 1024, "threads", double(p.threads), "must be in 1..1024");
+  require(std::isfinite(p.period) && p.period >= 0, "period", p.period,
+          "must be finite and ≥ 0 (0: open time)");
+  require(std::isfinite(p.period_start), "period_start", p.period_start, "must be finite");
   require(p.vertex_budget >= 16, "vertex_budget", double(p.vertex_budget),
           "must be at least 16 (the box corners)");
 }

@@ -29,6 +29,10 @@ struct RefineParams {
   double junction_spacing = 0;
   // Worker threads sharing the triangulation (parallel_refiner.cpp); 1: the sequential path.
   unsigned threads = 1;
+  // Periodic time (domain/periodic_time.h): the oracle's image is the cycle tiled three times,
+  // the middle copy from period_start to period_start + period. 0: time is open.
+  double period_start = 0;
+  double period = 0;
 };
 
 /// Bad parameters: the message names the parameter and the accepted range.

@@ -14,7 +14,18 @@ using delaunay::VertexKind;
 
 RefinementState::RefinementState(const domain::SurfaceOracle& oracle_in,
                                  const RefineParams& params_in)
-    : oracle(oracle_in), params(params_in), features(params_in.delta) {}
+    : oracle(oracle_in),
+      params(params_in),
+      covering(domain::TimePeriod{params_in.period_start, params_in.period}),
+      features(params_in.delta) {}
+
+void RefinementState::set_twin_labels(CellId c, domain::Label label) {
+  // Outside the trusted band a pentatope's twins are not its translates' labels to set.
+  if (!covering.trusted({0, 0, 0, PeriodicCovering::anchor(tri, c)})) return;
+  std::vector<CellId> twins;
+  covering.twin_cells(tri, c, twins);
+  for (CellId t : twins) info[t].label_code = std::uint32_t{label} + 1;
+}
 
 void RefinementState::insert_box() {
   // The bounding box of the foreground voxels, grown so that its corners are at least 2Δ from
@@ -51,9 +62,18 @@ void RefinementState::insert_junctions() {
       [&](const Point4& p) { features.add(p); });
   std::vector<Point4> points;
   points.reserve(junctions.size());
-  for (const auto& j : junctions) points.push_back(j.point);
+  for (const auto& j : junctions) {
+    if (!covering.active()) {
+      points.push_back(j.point);
+    } else if (covering.in_middle(j.point[3])) {  // each copy once, from the middle sheet's
+      for (const Point4& p : covering.copies(j.point)) points.push_back(p);
+    }
+  }
   // Before any rule runs, straight into the triangulation: the first admit() sees every cell.
-  for (std::size_t i : delaunay::spatial_order(points)) tri.insert(points[i], VertexKind::feature);
+  for (std::size_t i : delaunay::spatial_order(points)) {
+    const auto inserted = tri.insert(points[i], VertexKind::feature);
+    if (covering.active()) covering.add(inserted.vertex, points[i]);
+  }
 }
 
 void RefinementState::admit(const std::vector<CellId>& cells) {

@@ -19,6 +19,7 @@
 #include "delaunay/triangulation.h"
 #include "domain/surface_oracle.h"
 #include "refine/feature_index.h"
+#include "refine/periodic_covering.h"
 #include "refine/refine_params.h"
 #include "support/chunked_array.h"
 #include "support/reader_biased_mutex.h"
@@ -91,8 +92,10 @@ class RefinementState final : public delaunay::ConflictFilter {
     }
     return static_cast<domain::Label>(k - 1);
   }
+  /// Gives c the label (and, in periodic time, c's twins in the other sheets).
   void set_label(delaunay::CellId c, domain::Label label) {
     info[c].label_code = std::uint32_t{label} + 1;
+    if (covering.active()) set_twin_labels(c, label);
   }
   /// The label a pentatope has in the output (0: not output).
   domain::Label output_label(delaunay::CellId c) const { return info[c].finite ? label_of(c) : 0; }
@@ -114,6 +117,7 @@ class RefinementState final : public delaunay::ConflictFilter {
   const domain::SurfaceOracle& oracle;
   const RefineParams params;
   delaunay::Triangulation tri;
+  PeriodicCovering covering;             // inactive when time is open
   support::ChunkedArray<CellInfo> info;  // by cell id; blocks never move (parallel phases)
   std::array<Point4, 2> box{};
   FeatureIndex features;
@@ -127,6 +131,8 @@ class RefinementState final : public delaunay::ConflictFilter {
   void prefetch(const delaunay::CellId* cells, int count) const override {
     for (int k = 0; k < count; ++k) __builtin_prefetch(&info[cells[k]]);
   }
+
+  void set_twin_labels(delaunay::CellId c, domain::Label label);
 
   bool concurrent_ready_ = false;
 };

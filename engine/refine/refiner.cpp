@@ -36,9 +36,20 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-const RefineParams& validated(const RefineParams& params) {
+RefineParams validated(const RefineParams& params) {
   validate(params);
-  return params;
+  RefineParams p = params;
+  if (p.period > 0) {
+    // The copies of a point go in together, on one thread (Operation::insert).
+    p.threads = 1;
+    // A labeled pentatope anchored in the trusted band (PeriodicCovering::trusted, T/2 around
+    // the middle sheet) then has its circumball within the covering, which spans T more on
+    // each side: it is a pentatope of the periodic Delaunay triangulation, not of the cut-off.
+    const double bound = p.period / 4;
+    p.max_interior_radius =
+        p.max_interior_radius > 0 ? std::min(p.max_interior_radius, bound) : bound;
+  }
+  return p;
 }
 
 }  // namespace
@@ -125,8 +136,7 @@ struct Refiner::Pipeline {
       result.warnings.push_back(s.str());
     }
     // A pinched triangle's vertices fail their links: no count is needed when none does.
-    if (const std::size_t pinches =
-            result.non_manifold_left ? relabeling.current_pinches().size() : 0) {
+    if (const std::size_t pinches = result.non_manifold_left ? counted_pinches() : 0) {
       std::ostringstream s;
       s << pinches << " boundary triangles are pinched (in four or more boundary tetrahedra of "
         << "one label) where labels meet; a smaller delta resolves more of them";
@@ -141,6 +151,19 @@ struct Refiner::Pipeline {
     result.idle_seconds = done.idle_seconds;
     result.rules_seconds = rules_seconds;
     result.stats.elapsed_seconds = meter.elapsed_seconds();
+  }
+
+  // The pinches left, in periodic time those of the middle sheet only (the others are their
+  // copies, or lie where the covering is cut off).
+  std::size_t counted_pinches() {
+    const auto& st = state.tri.store();
+    std::size_t n = 0;
+    for (const PinchedTriangle& p : relabeling.current_pinches()) {
+      double lowest = st.point(p.triangle[0])[3];
+      for (mesh4d::VertexId v : p.triangle) lowest = std::min(lowest, st.point(v)[3]);
+      n += state.covering.counts(lowest);
+    }
+    return n;
   }
 
   RefinementState state;

@@ -218,6 +218,14 @@ std::size_t Relabeling::remove_free_vertices_at_pinches() {
         if (v != delaunay::kInfiniteVertex && st.vertex(v).kind == delaunay::VertexKind::free)
           free.push_back(v);
   }
+  if (state_.covering.active()) {  // their copies go too: the point set stays periodic
+    const std::size_t n = free.size();
+    for (std::size_t i = 0; i < n; ++i)
+      for (int periods : {-2, -1, 1, 2})
+        if (const auto t = state_.covering.twin(state_.tri, free[i], periods);
+            t != delaunay::kNoVertex)
+          free.push_back(t);
+  }
   std::sort(free.begin(), free.end());
   free.erase(std::unique(free.begin(), free.end()), free.end());
   std::size_t removed = 0;

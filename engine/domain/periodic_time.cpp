@@ -1,0 +1,46 @@
+#include "domain/periodic_time.h"
+
+#include <cmath>
+
+namespace mesh4d::domain {
+
+double snap_time(double t) {
+  return std::nearbyint(t / kTimeQuantum) * kTimeQuantum;
+}
+
+double TimePeriod::wrap(double t) const {
+  double s = snap_time(t);
+  // Both on the grid and far below 2⁵³ quanta: every step is exact.
+  const double periods = std::floor((s - start) / length);
+  s -= periods * length;
+  // Rounding of the division can leave s one period off at the ends of the band.
+  if (s < start) s += length;
+  if (s >= start + length) s -= length;
+  return s;
+}
+
+TimePeriod cycle_period(const LabelImage4& cycle) {
+  const std::size_t frames = cycle.dims()[3];
+  if (frames < 2)
+    throw ImageError("periodic time needs at least two frames; this image has " +
+                     std::to_string(frames));
+  const double step = cycle.spacing()[3];
+  TimePeriod period;
+  period.start = snap_time(cycle.origin()[3] - step / 2);
+  period.length = snap_time(static_cast<double>(frames) * step);
+  return period;
+}
+
+LabelImage4 tile_cycle(const LabelImage4& cycle) {
+  const Dims4& d = cycle.dims();
+  Vec4 origin = cycle.origin();
+  origin[3] -= static_cast<double>(d[3]) * cycle.spacing()[3];
+  LabelImage4 out({d[0], d[1], d[2], 3 * d[3]}, cycle.spacing(), origin);
+  const std::size_t voxels = cycle.voxel_count();
+  for (std::size_t copy = 0; copy < 3; ++copy)
+    for (std::size_t i = 0; i < voxels; ++i)
+      if (const Label l = cycle.at(i)) out.set(copy * voxels + i, l);
+  return out;
+}
+
+}  // namespace mesh4d::domain

@@ -1,0 +1,34 @@
+// Periodic time (docs/algorithm.md, "Periodic time"). A cardiac cycle's frame after the last is
+// its first: the domain is Ω over a circle of time of length T = frames × time scale. It is
+// meshed in the 3-sheeted covering along t, as CGAL's periodic triangulations do in space: the
+// cycle tiled three times, every point inserted with its copies one period below and above, so
+// that the point set, and with it the Delaunay triangulation near the middle sheet, is
+// invariant under a shift by T. The middle sheet's pentatopes are the mesh.
+#pragma once
+
+#include "domain/label_image.h"
+
+namespace mesh4d::domain {
+
+struct TimePeriod {
+  double start = 0;   // the seam: half a frame before the first frame
+  double length = 0;  // T; 0: time is open
+  bool periodic() const { return length > 0; }
+  /// t on the grid of kTimeQuantum, moved by whole periods into [start, start + length): on
+  /// that grid t ± T is exact, so the copies of a point are exact translates.
+  double wrap(double t) const;
+};
+
+/// The grid of times in a periodic covering (physical units): 2⁻³⁰, far below any spacing.
+inline constexpr double kTimeQuantum = 0x1p-30;
+/// t rounded to the nearest multiple of kTimeQuantum.
+double snap_time(double t);
+
+/// The period of `cycle`: from half a frame before its first frame to half a frame past its
+/// last. Throws ImageError for fewer than two frames (nothing to be periodic in).
+TimePeriod cycle_period(const LabelImage4& cycle);
+
+/// The covering: `cycle` tiled three times along t, the middle copy where the cycle lies.
+LabelImage4 tile_cycle(const LabelImage4& cycle);
+
+}  // namespace mesh4d::domain
