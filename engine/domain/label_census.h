@@ -29,4 +29,8 @@ struct LabelCensus {
 
 LabelCensus take_census(const LabelImage4& image);
 
+/// The census of a cycle in periodic time (periodic_time.h): pieces are counted with its last
+/// frame next to its first.
+LabelCensus take_periodic_census(const LabelImage4& cycle);
+
 }  // namespace mesh4d::domain

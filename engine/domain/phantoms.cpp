@@ -196,10 +196,32 @@ LabelImage4 thin_bridge_phantom(const Dims4& dims, const Vec4& spacing) {
   return image;
 }
 
+LabelImage4 appearing_ball_phantom(const Dims4& dims, const Vec4& spacing,
+                                   std::size_t first_frame) {
+  const double frames = double(dims[3]);
+  const double beat_x = 0.28 * double(dims[0]) * spacing[0];
+  const double ball_x = 0.72 * double(dims[0]) * spacing[0];
+  const double cy = 0.5 * double(dims[1]) * spacing[1], cz = 0.5 * double(dims[2]) * spacing[2];
+  return voxelize(dims, spacing, [&](const Point4& p) -> Label {
+    const double frame = p[3] / spacing[3];
+    const double beat = (7 + 2 * std::sin(2 * std::numbers::pi * frame / frames)) * spacing[0];
+    // Frames since the ball appeared, around the cycle.
+    const double age = std::fmod(frame - double(first_frame) + frames, frames);
+    const double life = frames / 2;
+    const double grown =
+        age > 0 && age < life ? 7 * std::sin(std::numbers::pi * age / life) * spacing[0] : 0;
+    const double dy = p[1] - cy, dz = p[2] - cz;
+    const double d1 = p[0] - beat_x, d2 = p[0] - ball_x;
+    if (d1 * d1 + dy * dy + dz * dz < beat * beat) return 1;
+    if (d2 * d2 + dy * dy + dz * dz < grown * grown) return 2;
+    return 0;
+  });
+}
+
 std::vector<std::string> phantom_names() {
-  return {"hypersphere", "hypertorus",      "ventricle",       "blobs",
-          "thin-wall",   "checkerboard",    "corner-contact",  "island",
-          "thin-plate",  "moving-junction", "diagonal-island", "thin-bridge"};
+  return {"hypersphere",     "hypertorus",     "ventricle",     "blobs",      "thin-wall",
+          "checkerboard",    "corner-contact", "island",        "thin-plate", "moving-junction",
+          "diagonal-island", "thin-bridge",    "appearing-ball"};
 }
 
 LabelImage4 make_phantom(const std::string& name) {
@@ -215,6 +237,7 @@ LabelImage4 make_phantom(const std::string& name) {
   if (name == "moving-junction") return moving_junction_phantom();
   if (name == "diagonal-island") return diagonal_island_phantom();
   if (name == "thin-bridge") return thin_bridge_phantom();
+  if (name == "appearing-ball") return appearing_ball_phantom();
   std::string known;
   for (const std::string& n : phantom_names()) known += (known.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown phantom '" + name + "' (known: " + known + ")");

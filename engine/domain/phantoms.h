@@ -78,8 +78,16 @@ LabelImage4 diagonal_island_phantom(const Dims4& dims = {24, 24, 24, 24},
 LabelImage4 thin_bridge_phantom(const Dims4& dims = {24, 24, 24, 24},
                                 const Vec4& spacing = {1, 1, 1, 1});
 
+/// A cycle (frame n would be frame 0) with a ball of label 1 that beats (radius 7 ± 2 voxels)
+/// and a ball of label 2 beside it that appears at `first_frame`, grows to radius 7 and is gone
+/// again half a cycle later, counted around the cycle: from a late first frame it lives
+/// across the end of the cycle and its start.
+LabelImage4 appearing_ball_phantom(const Dims4& dims = {36, 24, 24, 12},
+                                   const Vec4& spacing = {1, 1, 1, 1}, std::size_t first_frame = 3);
+
 /// The phantoms by name: hypersphere, hypertorus, ventricle, blobs, thin-wall, checkerboard,
-/// corner-contact, island, thin-plate, moving-junction, diagonal-island, thin-bridge.
+/// corner-contact, island, thin-plate, moving-junction, diagonal-island, thin-bridge,
+/// appearing-ball.
 std::vector<std::string> phantom_names();
 /// Throws std::invalid_argument for an unknown name.
 LabelImage4 make_phantom(const std::string& name);

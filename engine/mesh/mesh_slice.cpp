@@ -4,6 +4,8 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "mesh/periodic_mesh.h"
+
 namespace mesh4d::mesh {
 namespace {
 
@@ -154,6 +156,14 @@ class Slicer {
 }  // namespace
 
 SliceMesh slice_mesh(const Mesh4& mesh, double time, bool with_boundary) {
+  if (mesh.periodic()) {
+    // The cycle unrolled: every pentatope's class is cut once at the instant within the period.
+    SliceMesh slice = slice_mesh(unrolled(mesh), wrapped_time(mesh, time), with_boundary);
+    slice.time = time;
+    for (std::uint32_t& p : slice.pentatopes)
+      p %= static_cast<std::uint32_t>(mesh.pentatopes.size());
+    return slice;
+  }
   Slicer slicer(mesh, time);
   for (std::size_t i = 0; i < mesh.pentatopes.size(); ++i)
     slicer.add_pentatope(static_cast<std::uint32_t>(i));
@@ -170,6 +180,19 @@ double tetrahedron_volume(const SliceMesh& slice, std::size_t i) {
 
 std::vector<std::map<Label, double>> slice_volumes(const Mesh4& mesh,
                                                    const std::vector<double>& times) {
+  if (mesh.periodic()) {
+    // Each instant within the period, in ascending order, on the unrolled cycle.
+    std::vector<std::pair<double, std::size_t>> order;
+    for (std::size_t i = 0; i < times.size(); ++i)
+      order.emplace_back(wrapped_time(mesh, times[i]), i);
+    std::sort(order.begin(), order.end());
+    std::vector<double> wrapped;
+    for (const auto& o : order) wrapped.push_back(o.first);
+    std::vector<std::map<Label, double>> at = slice_volumes(unrolled(mesh), wrapped);
+    std::vector<std::map<Label, double>> volumes(times.size());
+    for (std::size_t k = 0; k < order.size(); ++k) volumes[order[k].second] = std::move(at[k]);
+    return volumes;
+  }
   std::vector<std::map<Label, double>> volumes(times.size());
   for (std::size_t p = 0; p < mesh.pentatopes.size(); ++p) {
     const auto& cell = mesh.pentatopes[p];

@@ -30,7 +30,8 @@ struct SliceMesh {
   std::vector<std::array<Label, 2>> triangle_labels;  // {inner, outer}
 };
 
-/// Cuts the mesh at t = time; `with_boundary` also cuts the boundary tetrahedra.
+/// Cuts the mesh at t = time; `with_boundary` also cuts the boundary tetrahedra. In periodic
+/// time (Mesh4::period) any t is cut, at its place within the period, through the glued cycle.
 SliceMesh slice_mesh(const Mesh4& mesh, double time, bool with_boundary);
 
 /// Volume of each label's region in the hyperplane t = `time` (physical units³): the volumes of

@@ -73,7 +73,7 @@ void measure(const Mesh4& mesh, std::size_t begin, std::size_t end, Part& part) 
 
 MeshStats compute_stats(const Mesh4& mesh, unsigned threads) {
   MeshStats stats;
-  stats.vertices = mesh.vertices.size();
+  stats.vertices = mesh.vertices.size() - mesh.periodic_twins.size();  // glued at the seam
   stats.pentatopes = mesh.pentatopes.size();
   stats.boundary_tetrahedra = mesh.boundary.size();
   // A share of fewer than kMinShare pentatopes is not worth a thread.

@@ -21,7 +21,7 @@ struct Distribution {
 using RuleCounts = std::array<std::uint64_t, 5>;
 
 struct MeshStats {
-  std::uint64_t vertices = 0;
+  std::uint64_t vertices = 0;  // in periodic time, glued at the seam (not its twins)
   std::uint64_t pentatopes = 0;
   std::uint64_t boundary_tetrahedra = 0;
   double shortest_edge = 0;

@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "mesh/link_topology.h"
+#include "mesh/periodic_mesh.h"
 #include "support/union_find.h"
 
 namespace mesh4d::mesh {
@@ -66,14 +67,17 @@ bool TopologyCertificate::manifold() const {
   return true;
 }
 
-TopologyCertificate certify_topology(const Mesh4& mesh) {
+TopologyCertificate certify_topology(const Mesh4& unglued) {
+  // In periodic time the combinatorics are the glued cycle's; the volumes, the positions'.
+  const Mesh4 glued_cycle = unglued.periodic() ? glued(unglued) : Mesh4{};
+  const Mesh4& mesh = unglued.periodic() ? glued_cycle : unglued;
   const std::size_t n = mesh.pentatopes.size();
   std::map<Label, LabelTopology> by_label;
   for (std::size_t p = 0; p < n; ++p) {
     LabelTopology& l = by_label[mesh.labels[p]];
     l.label = mesh.labels[p];
     ++l.pentatopes;
-    l.volume += four_volume(mesh, mesh.pentatopes[p]);
+    l.volume += four_volume(unglued, unglued.pentatopes[p]);
   }
 
   // Facets: pentatopes of one label that share one are one piece; a facet that no other

@@ -38,7 +38,8 @@ struct TopologyCertificate {
   bool manifold() const;
 };
 
-/// Certifies `mesh` (any number of pentatopes; no check of geometry beyond the volumes).
+/// Certifies `mesh` (any number of pentatopes; no check of geometry beyond the volumes); a mesh
+/// in periodic time as the glued cycle (periodic_mesh.h).
 TopologyCertificate certify_topology(const Mesh4& mesh);
 
 }  // namespace mesh4d::mesh

@@ -42,7 +42,8 @@ struct FidelityCertificate {
   std::vector<std::string> defects() const;
 };
 
-/// `image` is the one meshed (closed, and extended in time where the job asked).
+/// `image` is the one meshed (closed, and extended in time where the job asked); for a mesh in
+/// periodic time, the cycle (not closed), its last frame next to its first.
 FidelityCertificate certify(const mesh::Mesh4& mesh, const domain::LabelImage4& image);
 
 }  // namespace mesh4d::refine

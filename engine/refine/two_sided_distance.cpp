@@ -4,9 +4,13 @@
 #include <array>
 #include <climits>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <unordered_map>
+
+#include "domain/periodic_time.h"
+#include "mesh/periodic_mesh.h"
 
 namespace mesh4d::refine {
 namespace {
@@ -241,18 +245,27 @@ void add(SidedDistance& s, double d) {
 
 }  // namespace
 
-std::vector<TwoSidedDistance> two_sided_distances(const mesh::Mesh4& mesh,
-                                                  const domain::LabelImage4& image,
-                                                  std::size_t max_samples) {
+namespace {
+
+// Both sides: the image's faces from the voxels of frames [first_frame, first_frame + frames)
+// to the tetrahedra of `searched`; `sampled`'s tetrahedra, their centroids placed by `place`,
+// to the image's faces.
+std::vector<TwoSidedDistance> measure(const mesh::Mesh4& sampled, const mesh::Mesh4& searched,
+                                      const domain::LabelImage4& image, std::size_t first_frame,
+                                      std::size_t frames,
+                                      const std::function<Point4(Point4)>& place,
+                                      std::size_t max_samples) {
   std::map<domain::Label, TwoSidedDistance> by_label;
   const auto& d = image.dims();
+  const std::size_t frame_voxels = d[0] * d[1] * d[2];
   // Faces between a voxel and its +1 neighbour along each axis, counted per label (twice over
   // the image: the first pass sets each label's stride, the second samples).
   std::map<domain::Label, std::size_t> faces, seen;
   const auto each_face = [&](auto on_face) {
     const std::array<std::size_t, 4> stride{1, d[0], d[0] * d[1], d[0] * d[1] * d[2]};
-    std::array<std::size_t, 4> v{0, 0, 0, 0};
-    for (std::size_t i = 0; i < image.voxel_count(); ++i) {
+    std::array<std::size_t, 4> v{0, 0, 0, first_frame};
+    for (std::size_t i = first_frame * frame_voxels; i < (first_frame + frames) * frame_voxels;
+         ++i) {
       const domain::Label here = image.at(i);
       for (int a = 0; a < 4; ++a) {
         if (v[a] + 1 >= d[a]) continue;  // closed images have background at the border
@@ -267,10 +280,10 @@ std::vector<TwoSidedDistance> two_sided_distances(const mesh::Mesh4& mesh,
     if (there) ++faces[there];
   });
   std::map<domain::Label, std::size_t> tetrahedra, taken;
-  for (const auto& b : mesh.boundary)
+  for (const auto& b : sampled.boundary)
     for (domain::Label l : {b.inner, b.outer})
       if (l) ++tetrahedra[l];
-  const TetrahedronGrid grid(mesh);
+  const TetrahedronGrid grid(searched);
   each_face(
       [&](const std::array<std::size_t, 4>& v, int a, domain::Label here, domain::Label there) {
         for (domain::Label l : {here, there}) {
@@ -283,15 +296,15 @@ std::vector<TwoSidedDistance> two_sided_distances(const mesh::Mesh4& mesh,
         }
       });
 
-  for (const auto& b : mesh.boundary)
+  for (const auto& b : sampled.boundary)
     for (domain::Label l : {b.inner, b.outer}) {
       if (!l || taken[l]++ % std::max<std::size_t>(1, tetrahedra[l] / max_samples) != 0) continue;
       Point4 centroid{};
       for (auto v : b.vertices)
-        for (int k = 0; k < 4; ++k) centroid[k] += 0.25 * mesh.vertices[v][k];
+        for (int k = 0; k < 4; ++k) centroid[k] += 0.25 * sampled.vertices[v][k];
       TwoSidedDistance& entry = by_label[l];
       entry.label = l;
-      add(entry.mesh_to_image, distance_to_label_faces(centroid, image, l));
+      add(entry.mesh_to_image, distance_to_label_faces(place(centroid), image, l));
     }
 
   std::vector<TwoSidedDistance> out;
@@ -301,6 +314,26 @@ std::vector<TwoSidedDistance> two_sided_distances(const mesh::Mesh4& mesh,
     out.push_back(entry);
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<TwoSidedDistance> two_sided_distances(const mesh::Mesh4& mesh,
+                                                  const domain::LabelImage4& image,
+                                                  std::size_t max_samples) {
+  if (!mesh.periodic())
+    return measure(
+        mesh, mesh, image, 0, image.dims()[3], [](Point4 p) { return p; }, max_samples);
+  // The cycle tiled: its middle copy's faces, those across its last frame into the next copy's
+  // first included, to the unrolled mesh; the mesh's samples at their place in the period.
+  const domain::LabelImage4 tiled = domain::tile_cycle(image);
+  return measure(
+      mesh, mesh::unrolled(mesh), tiled, image.dims()[3], image.dims()[3],
+      [&](Point4 p) {
+        p[3] = mesh::wrapped_time(mesh, p[3]);
+        return p;
+      },
+      max_samples);
 }
 
 }  // namespace mesh4d::refine

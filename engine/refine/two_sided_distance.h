@@ -25,7 +25,8 @@ struct TwoSidedDistance {
 
 /// One entry per label of the image or the mesh boundary (ascending), each side sampled at most
 /// `max_samples` times, evenly over its tetrahedra or faces. A side with nothing to measure
-/// against (a label that the mesh lacks, say) keeps its samples at 0.
+/// against (a label that the mesh lacks, say) keeps its samples at 0. For a mesh in periodic time
+/// `image` is the cycle (not closed), its last frame next to its first.
 std::vector<TwoSidedDistance> two_sided_distances(const mesh::Mesh4& mesh,
                                                   const domain::LabelImage4& image,
                                                   std::size_t max_samples = 1000);

@@ -1,0 +1,217 @@
+// Periodic time: the covering is a valid Delaunay triangulation that is the same in each sheet,
+// the mesh is glued at the seam (every facet there matched), the certificate passes on the
+// glued cycle, and the first and last frames are meshed like the others. On a truly periodic
+// phantom (the beating ventricle) and on a ball that lives across the end of the cycle.
+#include "refine/periodic_time.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "delaunay/checker.h"
+#include "delaunay/geometry.h"
+#include "domain/periodic_time.h"
+#include "domain/phantoms.h"
+#include "domain/surface_oracle.h"
+#include "mesh/mesh_check.h"
+#include "mesh/mesh_slice.h"
+#include "mesh/periodic_mesh.h"
+#include "refine/fidelity_certificate.h"
+
+namespace mesh4d::refine {
+namespace {
+
+using Facet = std::array<std::uint32_t, 4>;
+
+Facet sorted_facet(const std::array<std::uint32_t, 5>& p, int skip,
+                   const std::vector<std::uint32_t>& id) {
+  Facet f;
+  for (int k = 0, m = 0; k < 5; ++k)
+    if (k != skip) f[m++] = id[p[k]];
+  std::sort(f.begin(), f.end());
+  return f;
+}
+
+// The seam: twins exactly a period apart, every facet of the glued cycle in one or two
+// pentatopes, and those in one exactly the boundary tetrahedra against the outside. Returns how
+// many facets use a vertex past the period (the seam's).
+std::size_t expect_glued_at_the_seam(const mesh::Mesh4& m) {
+  EXPECT_TRUE(m.periodic());
+  for (const auto& [later, earlier] : m.periodic_twins) {
+    Point4 p = m.vertices[earlier];
+    p[3] += m.period;
+    EXPECT_EQ(m.vertices[later], p);
+    EXPECT_GE(m.vertices[later][3], m.period_start + m.period);
+  }
+  const std::vector<std::uint32_t> id = mesh::glued_vertex_ids(m);
+  std::map<Facet, int> uses;
+  std::size_t seam = 0;
+  for (const auto& p : m.pentatopes)
+    for (int s = 0; s < 5; ++s) ++uses[sorted_facet(p, s, id)];
+  for (const auto& p : m.pentatopes)
+    for (int s = 0; s < 5; ++s) {
+      bool past = false;
+      for (int k = 0; k < 5; ++k) past = past || (k != s && id[p[k]] != p[k]);
+      seam += past;
+    }
+  std::set<Facet> outside;
+  for (const auto& b : m.boundary)
+    if (b.outer == 0) {
+      Facet f;
+      for (int k = 0; k < 4; ++k) f[k] = id[b.vertices[k]];
+      std::sort(f.begin(), f.end());
+      outside.insert(f);
+    }
+  std::size_t once = 0;
+  for (const auto& [f, n] : uses) {
+    EXPECT_LE(n, 2);
+    if (n == 1) {
+      ++once;
+      EXPECT_TRUE(outside.count(f)) << "an unmatched facet that is not on the boundary";
+    }
+  }
+  EXPECT_EQ(once, outside.size());
+  return seam;
+}
+
+// Each frame's section against its voxels, per label: {worst of the first and last frames,
+// worst of the others}.
+std::pair<double, double> frame_errors(const mesh::Mesh4& m, const domain::LabelImage4& image) {
+  const auto& d = image.dims();
+  const auto& s = image.spacing();
+  std::pair<double, double> worst{0, 0};
+  for (std::size_t f = 0; f < d[3]; ++f) {
+    std::map<mesh::Label, double> voxels;
+    for (std::size_t i = 0; i < d[0] * d[1] * d[2]; ++i)
+      if (const auto l = image.at(i + f * d[0] * d[1] * d[2])) voxels[l] += s[0] * s[1] * s[2];
+    const auto section = mesh::slice_volumes(m, image.voxel_center(0, 0, 0, f)[3]);
+    for (const auto& [l, v] : voxels) {
+      const auto it = section.find(l);
+      const double e = std::abs((it == section.end() ? 0 : it->second) / v - 1);
+      double& w = (f == 0 || f + 1 == d[3]) ? worst.first : worst.second;
+      w = std::max(w, e);
+    }
+  }
+  return worst;
+}
+
+TEST(PeriodicTime, TheCoveringIsPeriodicDelaunayAndTheCycleIsGluedAtTheSeam) {
+  domain::LabelImage4 cycle =
+      domain::beating_ventricle_phantom({50, 50, 22, 8}, {3.54, 3.54, 12, 1});
+  cycle.set_time_spacing(8);
+  const domain::TimePeriod period = domain::cycle_period(cycle);
+  domain::LabelImage4 covering = domain::tile_cycle(cycle);
+  domain::validate_and_close(covering);
+  const domain::SurfaceOracle oracle(covering);
+  RefineParams params;
+  params.delta = 8;
+  params.period_start = period.start;
+  params.period = period.length;
+  Refiner refiner(oracle, params);
+  const RefineResult r = refiner.run();
+
+  const auto& tri = refiner.triangulation();
+  const delaunay::CheckResult valid = delaunay::check_triangulation(tri);
+  ASSERT_TRUE(valid.ok) << valid.error;
+  // The same in each sheet: every pentatope anchored in the middle sheet, small enough to be
+  // one of the periodic triangulation's (circumradius under T/4, which the labeled ones are),
+  // has its translates one period below and above, where they lie within T/2 of the middle
+  // sheet (farther out the covering is cut off).
+  const auto& st = tri.store();
+  std::map<Point4, mesh4d::VertexId> at;
+  for (mesh4d::VertexId v = 1; v < st.vertex_slots(); ++v)
+    if (st.vertex(v).kind != delaunay::VertexKind::removed) at[st.point(v)] = v;
+  std::set<std::array<mesh4d::VertexId, 5>> cells;
+  for (delaunay::CellId c = 0; c < st.cell_slots(); ++c) {
+    if (!st.is_live(c) || st.is_infinite(c)) continue;
+    std::array<mesh4d::VertexId, 5> v;
+    std::copy(std::begin(st.cell(c).v), std::end(st.cell(c).v), v.begin());
+    std::sort(v.begin(), v.end());
+    cells.insert(v);
+  }
+  std::size_t checked = 0, missing = 0;
+  for (const auto& cell : cells) {
+    double lowest = INFINITY;
+    bool box = false;
+    delaunay::Simplex4 s;
+    for (int k = 0; k < 5; ++k) {
+      s[k] = st.point(cell[k]);
+      lowest = std::min(lowest, s[k][3]);
+      box = box || st.vertex(cell[k]).kind == delaunay::VertexKind::box;
+    }
+    if (box || lowest < period.start || lowest >= period.start + period.length) continue;
+    if (delaunay::circumradius(s) >= period.length / 4) continue;
+    for (double shift : {-period.length, period.length}) {
+      const double moved = lowest + shift;
+      if (moved < period.start - period.length / 2 || moved >= period.start + 1.5 * period.length)
+        continue;
+      ++checked;
+      std::array<mesh4d::VertexId, 5> twin;
+      bool all = true;
+      for (int k = 0; k < 5 && all; ++k) {
+        Point4 p = s[k];
+        p[3] += shift;
+        const auto it = at.find(p);
+        all = it != at.end();
+        if (all) twin[k] = it->second;
+      }
+      std::sort(twin.begin(), twin.end());
+      missing += !all || !cells.count(twin);
+    }
+  }
+  EXPECT_GT(checked, r.mesh.pentatopes.size() / 2);  // translates checked
+  EXPECT_EQ(missing, 0u) << "of " << checked;
+
+  EXPECT_GT(expect_glued_at_the_seam(r.mesh), 100u);
+  const mesh::BoundaryCheck boundary = mesh::check_boundary(r.mesh);
+  EXPECT_EQ(boundary.odd, 0u);
+  EXPECT_EQ(boundary.non_feature_uses, 0u);
+  const FidelityCertificate certificate = certify(r.mesh, cycle);
+  EXPECT_TRUE(certificate.defects().empty()) << ::testing::PrintToString(certificate.defects());
+  for (const LabelFidelity& l : certificate.labels) EXPECT_EQ(l.mesh_pieces, 1u) << l.label;
+  // Every frame meshed alike: the end frames are no worse than the others.
+  const auto [ends, middle] = frame_errors(r.mesh, cycle);
+  std::printf("worst frame volume error: %.3f first and last frames, %.3f the others\n", ends,
+              middle);
+  EXPECT_LT(ends, middle + 0.03);
+  EXPECT_LT(middle, 0.12);
+
+  // The certificate sees the seam: unglued, the facets there are a boundary nobody listed.
+  mesh::Mesh4 unglued = r.mesh;
+  unglued.periodic_twins.clear();
+  EXPECT_FALSE(certify(unglued, cycle).defects().empty());
+}
+
+TEST(PeriodicTime, ABallThatLivesAcrossTheEndOfTheCycleIsOnePieceOfTheGluedMesh) {
+  domain::LabelImage4 cycle = domain::appearing_ball_phantom({36, 24, 24, 12}, {1, 1, 1, 1}, 10);
+  cycle.set_time_spacing(2);
+  RefineParams params;
+  params.delta = 2;
+  std::vector<std::string> warnings;
+  const RefineResult r = refine_periodic(cycle, params, nullptr, &warnings);
+  expect_glued_at_the_seam(r.mesh);
+  const FidelityCertificate certificate = certify(r.mesh, cycle);
+  EXPECT_TRUE(certificate.defects().empty()) << ::testing::PrintToString(certificate.defects());
+  for (const LabelFidelity& l : certificate.labels) {
+    EXPECT_EQ(l.image_pieces, 1u) << l.label;
+    EXPECT_EQ(l.mesh_pieces, 1u) << l.label;
+  }
+  // The ball is gone from frame 4 to frame 10, and there from frame 11 to frame 3.
+  const auto volume_of_ball = [&](std::size_t frame) {
+    const auto v = mesh::slice_volumes(r.mesh, cycle.voxel_center(0, 0, 0, frame)[3]);
+    return v.count(2) ? v.at(2) : 0.0;
+  };
+  EXPECT_EQ(volume_of_ball(6), 0.0);
+  EXPECT_GT(volume_of_ball(0), 100.0);
+  EXPECT_GT(volume_of_ball(11), 10.0);
+  const auto [ends, middle] = frame_errors(r.mesh, cycle);
+  std::printf("worst frame volume error: %.3f first and last frames, %.3f the others\n", ends,
+              middle);
+  EXPECT_LT(ends, 0.12);
+}
+
+}  // namespace
+}  // namespace mesh4d::refine
