@@ -73,6 +73,24 @@ std::size_t padded(std::size_t n) {
   return (n + 7) / 8 * 8;
 }
 
+// A periodic mesh's twins (ids in range): each one's later vertex exactly one period after its
+// earlier one, at or past the period's end, and glued once; no earlier vertex is itself a
+// later one (one period per seam). `fail` throws with what is wrong.
+template <class Fail>
+void check_twins(const Mesh4& mesh, Fail fail) {
+  std::vector<std::uint8_t> later_seen(mesh.vertices.size(), 0);
+  for (const auto& [later, earlier] : mesh.periodic_twins) {
+    if (later_seen[later]++) fail("a vertex glued twice at the seam");
+    Point4 p = mesh.vertices[earlier];
+    p[3] += mesh.period;
+    if (p != mesh.vertices[later]) fail("periodic twins not one period apart");
+    if (mesh.vertices[later][3] < mesh.period_start + mesh.period)
+      fail("a periodic twin before the end of the period");
+  }
+  for (const auto& [later, earlier] : mesh.periodic_twins)
+    if (later_seen[earlier]) fail("a periodic twin glued to a vertex past the period");
+}
+
 }  // namespace
 
 std::array<std::uint8_t, 32> sha256(const std::uint8_t* data, std::size_t size) {
@@ -108,13 +126,23 @@ std::vector<std::uint8_t> encode_m4d(const Mesh4& mesh) {
       if (v >= nv) throw std::invalid_argument("boundary vertex id out of range");
     if (b.pentatope >= np) throw std::invalid_argument("boundary pentatope out of range");
   }
+  if (mesh.periodic()) {
+    if (!std::isfinite(mesh.period_start) || !std::isfinite(mesh.period))
+      throw std::invalid_argument("non-finite period");
+    for (const auto& [later, earlier] : mesh.periodic_twins)
+      if (later >= nv || earlier >= nv)
+        throw std::invalid_argument("periodic twin vertex id out of range");
+    check_twins(mesh, [](const char* what) { throw std::invalid_argument(what); });
+  } else if (!mesh.periodic_twins.empty()) {
+    throw std::invalid_argument("periodic twins without a period");
+  }
 
   std::vector<std::uint8_t> out;
   out.reserve(kHeaderBytes + nv * 33 + np * 22 + nb * 24 + 64);
   Writer w{out};
   for (char c : kMagic) w.u8(static_cast<std::uint8_t>(c));
   w.u32(kM4dVersion);
-  w.u32(0);  // flags, none defined
+  w.u32(mesh.periodic() ? kPeriodicTimeFlag : 0);
   w.u64(nv);
   w.u64(np);
   w.u64(nb);
@@ -134,6 +162,12 @@ std::vector<std::uint8_t> encode_m4d(const Mesh4& mesh) {
     w.u16(b.inner);
     w.u16(b.outer);
   }
+  if (mesh.periodic()) {
+    w.f64(mesh.period_start);
+    w.f64(mesh.period);
+    w.u64(mesh.periodic_twins.size());
+    for (const auto& [later, earlier] : mesh.periodic_twins) w.u32(later), w.u32(earlier);
+  }
   const auto digest = sha256(out.data(), out.size());
   out.insert(out.end(), digest.begin(), digest.end());
   return out;
@@ -151,16 +185,29 @@ Mesh4 decode_m4d(const std::uint8_t* data, std::size_t size) {
       << kM4dVersion << ")";
     throw MeshFormatError(s.str());
   }
-  if (const std::uint32_t flags = r.u32(); flags != 0) {
+  const std::uint32_t flags = r.u32();
+  if (flags & ~kPeriodicTimeFlag) {
     std::ostringstream s;
-    s << ".m4d flags 0x" << std::hex << flags << " are not known to this reader";
+    s << ".m4d flags 0x" << std::hex << (flags & ~kPeriodicTimeFlag)
+      << " are not known to this reader";
     throw MeshFormatError(s.str());
   }
+  const bool periodic = flags & kPeriodicTimeFlag;
   const std::uint64_t nv = r.u64(), np = r.u64(), nb = r.u64();
-  // The section sizes must add up exactly before anything is allocated from them.
-  const double expected = double(kHeaderBytes) + double(padded(nv * 33)) + double(padded(np * 20)) +
-                          double(padded(np * 2)) + double(nb * 24);
-  if (nv > (1ull << 32) || np > (1ull << 40) || nb > (1ull << 40) ||
+  // The section sizes must add up exactly before anything is allocated from them. The periodic
+  // section's twin count is read where it lies, once the rest is known to fit.
+  double expected = double(kHeaderBytes) + double(padded(nv * 33)) + double(padded(np * 20)) +
+                    double(padded(np * 2)) + double(nb * 24);
+  std::uint64_t nt = 0;
+  if (periodic && expected + 24 <= double(size - kChecksumBytes) && nv <= (1ull << 32) &&
+      np <= (1ull << 40) && nb <= (1ull << 40)) {
+    Reader at_twins{data, size - kChecksumBytes, static_cast<std::size_t>(expected) + 16};
+    nt = at_twins.u64();
+    expected += 24 + 8 * double(nt);
+  } else if (periodic) {
+    expected += 24;
+  }
+  if (nv > (1ull << 32) || np > (1ull << 40) || nb > (1ull << 40) || nt > nv ||
       expected != double(size - kChecksumBytes))
     throw MeshFormatError("inconsistent .m4d sizes: the header's counts do not match the length");
   const auto digest = sha256(data, size - kChecksumBytes);
@@ -202,6 +249,21 @@ Mesh4 decode_m4d(const std::uint8_t* data, std::size_t size) {
     if (b.pentatope >= np) throw MeshFormatError("boundary pentatope out of range in .m4d");
     b.inner = r.u16();
     b.outer = r.u16();
+  }
+  if (periodic) {
+    mesh.period_start = r.f64();
+    mesh.period = r.f64();
+    if (!std::isfinite(mesh.period_start) || !std::isfinite(mesh.period) || !(mesh.period > 0))
+      throw MeshFormatError("periodic .m4d with a period that is not finite and positive");
+    mesh.periodic_twins.resize(r.u64());
+    for (auto& [later, earlier] : mesh.periodic_twins) {
+      later = r.u32();
+      earlier = r.u32();
+      if (later >= nv || earlier >= nv)
+        throw MeshFormatError("periodic twin vertex id out of range in .m4d");
+    }
+    check_twins(mesh,
+                [](const char* what) { throw MeshFormatError(std::string(what) + " in .m4d"); });
   }
   return mesh;
 }

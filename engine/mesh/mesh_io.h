@@ -12,6 +12,8 @@
 namespace mesh4d::mesh {
 
 inline constexpr std::uint32_t kM4dVersion = 1;
+/// Flag bit: the mesh is periodic in time (its period and seam twins follow the boundary).
+inline constexpr std::uint32_t kPeriodicTimeFlag = 1;
 
 /// A file or buffer that is not a valid .m4d: the message says what is wrong.
 class MeshFormatError : public std::runtime_error {

@@ -10,6 +10,7 @@
 
 #include "mesh/mesh_check.h"
 #include "mesh/mesh_stats.h"
+#include "test_meshes.h"
 
 namespace mesh4d::mesh {
 namespace {
@@ -89,6 +90,48 @@ TEST(M4d, OutOfRangeIdsAreRefusedEvenWithAValidChecksum) {
   const auto digest = sha256(bytes.data(), bytes.size() - 32);
   std::copy(digest.begin(), digest.end(), bytes.end() - 32);
   EXPECT_NE(error_of(bytes).find("out of range"), std::string::npos);
+}
+
+void resign(std::vector<std::uint8_t>& bytes) {
+  const auto digest = sha256(bytes.data(), bytes.size() - 32);
+  std::copy(digest.begin(), digest.end(), bytes.end() - 32);
+}
+
+TEST(M4d, APeriodicMeshKeepsItsPeriodAndTwins) {
+  const Mesh4 mesh = periodic_kuhn_box(2, 3, 4);
+  const auto bytes = encode_m4d(mesh);
+  EXPECT_EQ(bytes[12], kPeriodicTimeFlag);
+  const Mesh4 back = decode_m4d(bytes.data(), bytes.size());
+  EXPECT_TRUE(same(back, mesh));
+  EXPECT_EQ(back.period_start, 0.0);
+  EXPECT_EQ(back.period, 3.0);
+  EXPECT_EQ(back.periodic_twins, mesh.periodic_twins);
+  // The periodic section: period start, period, twin count, then the twins (8 bytes each).
+  const std::size_t twins_at = bytes.size() - 32 - 8 * 8;
+  auto apart = bytes;
+  apart[twins_at] = 25;  // the first twin's later vertex: the corner (2, 0, 0, 3)
+  resign(apart);
+  EXPECT_NE(error_of(apart).find("not one period apart"), std::string::npos) << error_of(apart);
+  auto count = bytes;
+  count[twins_at - 8] = 9;
+  resign(count);
+  EXPECT_NE(error_of(count).find("inconsistent"), std::string::npos) << error_of(count);
+  auto period = bytes;
+  period[twins_at - 9] = 0xFF;  // the period's top byte: a NaN
+  period[twins_at - 10] = 0xFF;
+  resign(period);
+  EXPECT_NE(error_of(period).find("period"), std::string::npos) << error_of(period);
+  auto unknown = bytes;
+  unknown[12] = 3;  // a flag beyond periodic time
+  resign(unknown);
+  EXPECT_NE(error_of(unknown).find("flags 0x2"), std::string::npos) << error_of(unknown);
+  auto open = bytes;
+  open[12] = 0;  // the periodic section is then bytes the counts do not account for
+  resign(open);
+  EXPECT_NE(error_of(open).find("inconsistent"), std::string::npos) << error_of(open);
+  Mesh4 wrong = mesh;
+  wrong.periodic_twins[0] = {8, 0};  // the later vertex before the period's end
+  EXPECT_THROW(encode_m4d(wrong), std::invalid_argument);
 }
 
 TEST(M4d, InconsistentMeshIsNotWritten) {

@@ -29,6 +29,32 @@ inline Mesh4 kuhn_box(double sx, double sy, double sz) {
   return m;
 }
 
+// `layers` kuhn_boxes stacked in time, in periodic time over [0, layers): the corners at
+// t = layers glued to those at t = 0 (a period of one layer would glue a pentatope's own
+// corners).
+inline Mesh4 periodic_kuhn_box(double sx, double sy, double sz, int layers = 3) {
+  const Mesh4 box = kuhn_box(sx, sy, sz);
+  Mesh4 m;
+  for (int layer = 0; layer <= layers; ++layer)
+    for (std::uint32_t c = 0; c < 8; ++c) {
+      Point4 p = box.vertices[c];
+      p[3] = layer;
+      m.vertices.push_back(p);
+      m.vertex_kinds.push_back(VertexKind::free);
+    }
+  for (int layer = 0; layer < layers; ++layer)
+    for (auto p : box.pentatopes) {
+      for (std::uint32_t& v : p) v = (v & 7) + 8 * static_cast<std::uint32_t>(layer + (v >> 3));
+      m.pentatopes.push_back(p);
+      m.labels.push_back(1);
+    }
+  m.period_start = 0;
+  m.period = layers;
+  for (std::uint32_t c = 0; c < 8; ++c)
+    m.periodic_twins.push_back({8 * static_cast<std::uint32_t>(layers) + c, c});
+  return m;
+}
+
 // Each facet (sorted) and the pentatopes it belongs to.
 inline std::map<std::array<std::uint32_t, 4>, std::vector<std::uint32_t>> facet_owners(
     const Mesh4& m) {
