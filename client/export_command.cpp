@@ -37,10 +37,17 @@ void write_text(const std::filesystem::path& path, const std::string& text) {
 
 // Without --slices: every whole time unit strictly inside the mesh's time span (the frames of
 // an image with time spacing 1).
+// In periodic time, every whole time unit of the period.
 std::vector<double> default_slices(const mesh::Mesh4& m) {
+  std::vector<double> times;
+  if (m.periodic()) {
+    for (double t = std::ceil(m.period_start);
+         t < m.period_start + m.period && times.size() < 10000; t += 1)
+      times.push_back(t);
+    return times;
+  }
   double lo = INFINITY, hi = -INFINITY;
   for (const auto& p : m.vertices) lo = std::min(lo, p[3]), hi = std::max(hi, p[3]);
-  std::vector<double> times;
   for (double t = std::floor(lo) + 1; t < hi && times.size() < 10000; t += 1) times.push_back(t);
   return times;
 }
@@ -88,6 +95,11 @@ int run_export(const ExportOptions& o) {
       write_text(o.mfem, mesh::mfem_mesh(m, o.mfem_geometry));
       std::cout << "wrote " << o.mfem << " (MFEM mesh v1.0, pentatope geometry " << o.mfem_geometry
                 << ")\n";
+      if (m.periodic()) {
+        write_text(o.mfem + ".v2v", mesh::mfem_periodic_vertex_map(m));
+        std::cout << "wrote " << o.mfem << ".v2v (periodic in time, period " << m.period
+                  << ": the vertex map for Mesh::MakePeriodic)\n";
+      }
     }
     if (!o.meshb.empty()) {
       write_text(o.meshb, mesh::meshb_mesh(m));

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "delaunay/geometry.h"
+#include "mesh/periodic_mesh.h"
 
 namespace mesh4d::mesh {
 namespace {
@@ -52,6 +53,10 @@ std::string mfem_mesh(const Mesh4& mesh, int pentatope_geometry) {
   auto out = exact_stream();
   out << "MFEM mesh v1.0\n\n# mesh4d space-time mesh: coordinates x y z t\n"
       << "# element attribute = label\n";
+  if (mesh.periodic())
+    out << "# periodic in time: period " << mesh.period << " from t = " << mesh.period_start
+        << "; the vertices past it are glued to those one period earlier by\n"
+        << "# Mesh::MakePeriodic(mesh, v2v), v2v read from the .v2v file written beside\n";
   for (const auto& [pair, n] : number)
     out << "# boundary attribute " << n << " = label " << pair[0] << " | "
         << (pair[1] == 0 ? std::string("background") : "label " + std::to_string(pair[1])) << "\n";
@@ -74,6 +79,13 @@ std::string mfem_mesh(const Mesh4& mesh, int pentatope_geometry) {
   for (const auto& p : mesh.vertices)
     out << p[0] << ' ' << p[1] << ' ' << p[2] << ' ' << p[3] << '\n';
   return out.str();
+}
+
+std::string mfem_periodic_vertex_map(const Mesh4& mesh) {
+  if (!mesh.periodic()) return {};
+  std::string out;
+  for (std::uint32_t v : glued_vertex_ids(mesh)) out += std::to_string(v) + '\n';
+  return out;
 }
 
 std::string meshb_mesh(const Mesh4& mesh) {

@@ -25,6 +25,11 @@ std::vector<std::array<Label, 2>> boundary_interfaces(const Mesh4& mesh);
 /// interface's tetrahedra once, attribute = its interface number, listed in a comment), vertices.
 std::string mfem_mesh(const Mesh4& mesh, int pentatope_geometry = kMfemPentatopeDefault);
 
+/// For a mesh in periodic time, MFEM's periodic convention (Mesh::MakePeriodic): the
+/// vertex-to-vertex map, one line per vertex of mfem_mesh's list, its index in the glued cycle
+/// (the earlier twin of a vertex past the period, else its own). Empty for open time.
+std::string mfem_periodic_vertex_map(const Mesh4& mesh);
+
 /// libMeshb ASCII (MeshVersionFormatted 2, Dimension 4): Vertices, Tetrahedra (reference = the
 /// interface number), Pentatopes (reference = label); indices 1-based.
 std::string meshb_mesh(const Mesh4& mesh);

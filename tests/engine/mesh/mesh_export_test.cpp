@@ -95,6 +95,18 @@ TEST(MfemExport, SectionsCountsAttributesAndPositiveOrientation) {
   EXPECT_NE(mfem_mesh(m, 8).find("\n2 8 "), std::string::npos) << "the geometry code is an option";
 }
 
+TEST(MfemExport, APeriodicMeshComesWithMakePeriodicsVertexMap) {
+  const Mesh4 m = periodic_kuhn_box(1, 1, 1);
+  EXPECT_NE(mfem_mesh(m).find("# periodic in time: period 3 from t = 0"), std::string::npos);
+  std::istringstream map(mfem_periodic_vertex_map(m));
+  std::vector<std::uint32_t> v2v;
+  for (std::uint32_t v; map >> v;) v2v.push_back(v);
+  ASSERT_EQ(v2v.size(), m.vertices.size());
+  for (std::uint32_t v = 0; v < 24; ++v) EXPECT_EQ(v2v[v], v);
+  for (std::uint32_t v = 24; v < 32; ++v) EXPECT_EQ(v2v[v], v - 24);
+  EXPECT_EQ(mfem_periodic_vertex_map(kuhn_box(1, 1, 1)), "");
+}
+
 TEST(MeshbExport, KeywordsOneBasedIndicesAndReferences) {
   const Mesh4 m = two_label_box();
   const std::string text = meshb_mesh(m);
