@@ -26,7 +26,9 @@ int run_status(const GlobalOptions& global, const std::string& id) {
   if (!status.ok()) return report_rpc_error("status " + id, status, global);
   print_job_line(std::cout, job);
   std::cout << "  delta " << job.params().delta() << ", time scale " << job.params().time_scale()
-            << " per frame\n";
+            << " per frame, "
+            << (job.params().time_topology() == v1::TIME_TOPOLOGY_PERIODIC ? "periodic" : "open")
+            << " time\n";
   if (job.state() == v1::JOB_STATE_SUCCEEDED) print_stats(std::cout, job.stats());
   for (const auto& w : job.warnings()) std::cout << "  warning: " << w << "\n";
   return kExitOk;

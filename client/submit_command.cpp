@@ -25,6 +25,7 @@ struct SubmitOptions {
   std::vector<std::string> frames;
   std::string params_file;
   double delta = 0, rho = 0, time_scale = 0;
+  std::string time_topology;
   unsigned threads = 0;
   unsigned extend_time = 0;
   std::optional<unsigned> min_island_voxels;
@@ -51,6 +52,8 @@ void fill_params(const SubmitOptions& o, v1::RefineParams* p) {
   if (o.threads) p->set_threads(o.threads);
   if (o.extend_time) p->set_extend_time_frames(o.extend_time);
   if (o.time_scale) p->set_time_scale(o.time_scale);
+  if (o.time_topology == "periodic") p->set_time_topology(v1::TIME_TOPOLOGY_PERIODIC);
+  if (o.time_topology == "open") p->set_time_topology(v1::TIME_TOPOLOGY_OPEN);
   if (o.strict) p->set_strict(true);
   if (o.min_island_voxels) p->set_min_island_voxels(*o.min_island_voxels);
 }
@@ -88,7 +91,11 @@ int run_submit(const GlobalOptions& global, const SubmitOptions& o) {
   if (!status.ok()) return report_rpc_error("submit", status, global);
   std::cout << response.job().id() << "\n" << std::flush;
   std::cerr << "time scale: " << response.job().params().time_scale() << " per frame"
-            << (spec.params().time_scale() == 0 ? " (chosen from the data)" : "") << "\n";
+            << (spec.params().time_scale() == 0 ? " (chosen from the data)" : "")
+            << (response.job().params().time_topology() == v1::TIME_TOPOLOGY_PERIODIC
+                    ? ", periodic time"
+                    : "")
+            << "\n";
   for (const auto& w : response.job().warnings()) std::cerr << "warning: " << w << "\n";
   if (!o.wait) return kExitOk;
 
@@ -126,6 +133,10 @@ void setup_submit_command(CLI::App& app, const GlobalOptions& global, int* exit_
                   "the length of one frame along t, in the image's spatial unit (default: "
                   "chosen from the data, the larger of delta and the boundary's motion per frame)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--time-topology", o->time_topology,
+                  "open (default: the mesh spans the frames, flat caps at its ends) or periodic (a "
+                  "cycle: the frame after the last is the first, the mesh closed in time)")
+      ->check(CLI::IsMember({"open", "periodic"}));
   cmd->add_option("--name", o->name, "a name shown in listings (default: the file)");
   cmd->add_option("--request-id", o->request_id, "idempotency key (default: random)");
   cmd->add_flag("--wait", o->wait, "follow the job to its end (progress on stderr)");

@@ -10,6 +10,7 @@
 #include <random>
 #include <sstream>
 
+#include "domain/periodic_time.h"
 #include "domain/segmentation_cleanup.h"
 #include "domain/time_extension.h"
 #include "domain/time_scale.h"
@@ -176,6 +177,17 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
       << domain::kMaxTimeExtension;
     throw wire::ServiceError(wire::ErrorCode::invalid_argument, m.str());
   }
+  const bool periodic = periodic_time(spec.params());  // refuses an unknown topology
+  if (periodic && spec.params().extend_time_frames() != 0)
+    throw wire::ServiceError(wire::ErrorCode::invalid_argument,
+                             "params.extend_time_frames lengthens an open mesh at its ends; a "
+                             "periodic one (time_topology periodic) has none: leave it 0");
+  if (periodic && spec.image().dims().t() < 2) {
+    std::ostringstream m;
+    m << "time_topology periodic needs at least two frames; the image has "
+      << spec.image().dims().t();
+    throw wire::ServiceError(wire::ErrorCode::invalid_argument, m.str());
+  }
   const double time_scale = spec.params().time_scale();
   if (!std::isfinite(time_scale) || time_scale < 0) {
     std::ostringstream m;
@@ -201,6 +213,7 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
                                    ? spec.params().min_island_voxels()
                                    : domain::kDefaultMinIslandVoxels);
   stored.set_time_scale(time_scale);  // an automatic one is filled in once the image is read
+  stored.set_time_topology(periodic ? v1::TIME_TOPOLOGY_PERIODIC : v1::TIME_TOPOLOGY_OPEN);
   // A retry (same request_id) gets the first job back, but only when it asks for the same mesh
   // (an automatic time scale asks for the one the first job chose from the same image).
   auto duplicate = [&]() -> const Entry* {
@@ -227,7 +240,9 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
   std::vector<std::string> warnings;
   // Size, checksum and labels; throws.
   const domain::LabelImage4 image = wire::decode_upload(spec.image(), data, &warnings);
-  if (time_scale == 0) stored.set_time_scale(domain::automatic_time_scale(image, params.delta));
+  if (periodic) domain::drop_time_padding_warnings(warnings);
+  if (time_scale == 0)
+    stored.set_time_scale(domain::automatic_time_scale(image, params.delta, periodic));
 
   std::lock_guard lock(mu_);
   if (const Entry* e = duplicate()) return {view(*e), true};  // a concurrent retry won
@@ -562,10 +577,11 @@ void JobManager::run(const std::string& id) {
     preparation.extend_time_frames = entry->job.params().extend_time_frames();
     preparation.min_island_voxels = entry->job.params().min_island_voxels();
     preparation.time_scale = entry->job.params().time_scale();
+    preparation.periodic = periodic_time(entry->job.params());
     strict = entry->job.params().strict();
   }
-  log_job(spdlog::level::info, id, "running: delta {}, time scale {} per frame", params.delta,
-          preparation.time_scale);
+  log_job(spdlog::level::info, id, "running: delta {}, time scale {} per frame, {} time",
+          params.delta, preparation.time_scale, preparation.periodic ? "periodic" : "open");
   Sink sink(*this, *entry);
   std::string error;
   v1::JobState end = v1::JOB_STATE_FAILED;

@@ -5,6 +5,7 @@
 #include "domain/segmentation_cleanup.h"
 #include "domain/surface_oracle.h"
 #include "mesh/mesh_io.h"
+#include "refine/periodic_time.h"
 #include "refine/refiner.h"
 #include "refine/time_caps.h"
 #include "wire/upload_codec.h"
@@ -56,7 +57,8 @@ JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& pa
   sink.on_progress(phase);
   LastProgress refining(sink);
   refine::RefineResult result =
-      refine::refine_with_time_caps(image, params, &refining, &out.warnings);
+      preparation.periodic ? refine::refine_periodic(image, params, &refining, &out.warnings)
+                           : refine::refine_with_time_caps(image, params, &refining, &out.warnings);
   phase = refining.last;
   phase.phase = refine::Phase::writing;
   sink.on_progress(phase);
@@ -65,7 +67,7 @@ JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& pa
   out.stats = result.stats;
   out.relabeled = result.relabeled;
   out.warnings.insert(out.warnings.end(), result.warnings.begin(), result.warnings.end());
-  out.certificate = refine::certify(result.mesh, image);
+  out.certificate = refine::certify(result.mesh, image);  // a periodic mesh: against the cycle
   for (const std::string& defect : out.certificate.defects())
     out.warnings.push_back("fidelity certificate: " + defect);
   return out;

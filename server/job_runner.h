@@ -28,6 +28,7 @@ struct JobOutcome {
 /// and .min_island_voxels in the proto).
 struct ImagePreparation {
   double time_scale = 0;  // the length of a frame along t; 0: the header's spacing.t
+  bool periodic = false;  // time_topology periodic: the frame after the last is the first
   std::size_t extend_time_frames = 0;
   std::size_t min_island_voxels = 0;
 };

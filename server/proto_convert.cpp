@@ -48,6 +48,14 @@ refine::RefineParams to_engine(const v1::RefineParams& p) {
   return r;
 }
 
+bool periodic_time(const v1::RefineParams& p) {
+  if (!v1::TimeTopology_IsValid(p.time_topology()))
+    throw wire::ServiceError(wire::ErrorCode::invalid_argument,
+                             "params.time_topology " + std::to_string(p.time_topology()) +
+                                 " is not one of 0 (default, open), 1 (open), 2 (periodic)");
+  return p.time_topology() == v1::TIME_TOPOLOGY_PERIODIC;
+}
+
 v1::RefineParams to_proto(const refine::RefineParams& p, unsigned threads) {
   v1::RefineParams r;
   r.set_delta(p.delta);

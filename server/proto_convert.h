@@ -11,6 +11,9 @@ namespace mesh4d::server {
 
 /// The request's parameters with the engine's defaults where a field is 0 (unset).
 refine::RefineParams to_engine(const v1::RefineParams& p);
+/// Whether the request asks for periodic time; throws wire::ServiceError (INVALID_ARGUMENT)
+/// for a time_topology this server does not know.
+bool periodic_time(const v1::RefineParams& p);
 /// Every field filled in (what the job record shows).
 v1::RefineParams to_proto(const refine::RefineParams& p, unsigned threads);
 

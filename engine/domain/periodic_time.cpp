@@ -43,4 +43,9 @@ LabelImage4 tile_cycle(const LabelImage4& cycle) {
   return out;
 }
 
+void drop_time_padding_warnings(std::vector<std::string>& warnings) {
+  std::erase_if(warnings,
+                [](const std::string& w) { return w.find("along t;") != std::string::npos; });
+}
+
 }  // namespace mesh4d::domain

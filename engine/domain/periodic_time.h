@@ -6,6 +6,9 @@
 // invariant under a shift by T. The middle sheet's pentatopes are the mesh.
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "domain/label_image.h"
 
 namespace mesh4d::domain {
@@ -30,5 +33,9 @@ TimePeriod cycle_period(const LabelImage4& cycle);
 
 /// The covering: `cycle` tiled three times along t, the middle copy where the cycle lies.
 LabelImage4 tile_cycle(const LabelImage4& cycle);
+
+/// Drops validate_and_close's warnings about padding along t: a cycle has no ends in time to
+/// close, so they do not concern its user.
+void drop_time_padding_warnings(std::vector<std::string>& warnings);
 
 }  // namespace mesh4d::domain

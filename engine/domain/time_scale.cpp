@@ -37,17 +37,19 @@ double boundary_area(const LabelImage4& image, std::size_t t) {
 
 }  // namespace
 
-double boundary_motion_per_frame(const LabelImage4& image) {
+double boundary_motion_per_frame(const LabelImage4& image, bool periodic) {
   const Dims4& d = image.dims();
   const Vec4& s = image.spacing();
   const std::size_t frame_voxels = d[0] * d[1] * d[2];
   double largest = 0;
   double area = d[3] > 1 ? boundary_area(image, 0) : 0;
-  for (std::size_t t = 0; t + 1 < d[3]; ++t) {
-    const double next_area = boundary_area(image, t + 1);
+  const std::size_t pairs = d[3] > 1 ? d[3] - (periodic ? 0 : 1) : 0;
+  for (std::size_t t = 0; t < pairs; ++t) {
+    const std::size_t next = (t + 1) % d[3];
+    const double next_area = boundary_area(image, next);
     std::size_t changed = 0;
     for (std::size_t i = 0; i < frame_voxels; ++i)
-      changed += image.at(t * frame_voxels + i) != image.at((t + 1) * frame_voxels + i);
+      changed += image.at(t * frame_voxels + i) != image.at(next * frame_voxels + i);
     // A frame without labels (the closing's padding, or before an object appears) borders a
     // time cap, which is no motion.
     if (area > 0 && next_area > 0)
@@ -58,8 +60,8 @@ double boundary_motion_per_frame(const LabelImage4& image) {
   return largest;
 }
 
-double automatic_time_scale(const LabelImage4& image, double delta) {
-  return std::max(delta, boundary_motion_per_frame(image));
+double automatic_time_scale(const LabelImage4& image, double delta, bool periodic) {
+  return std::max(delta, boundary_motion_per_frame(image, periodic));
 }
 
 }  // namespace mesh4d::domain

@@ -14,10 +14,11 @@ namespace mesh4d::domain {
 /// The mean distance the object's boundary moves between two consecutive frames, for the pair
 /// where it moves most: the voxels that change label between the frames, times the voxel's
 /// volume, over the mean area of the label boundaries in the two frames. Pairs with an empty
-/// frame are skipped; 0 for a single frame.
-double boundary_motion_per_frame(const LabelImage4& image);
+/// frame are skipped; 0 for a single frame. In periodic time the last frame and the first are a
+/// pair too.
+double boundary_motion_per_frame(const LabelImage4& image, bool periodic = false);
 
 /// The default time scale: the larger of Δ and boundary_motion_per_frame(image).
-double automatic_time_scale(const LabelImage4& image, double delta);
+double automatic_time_scale(const LabelImage4& image, double delta, bool periodic = false);
 
 }  // namespace mesh4d::domain

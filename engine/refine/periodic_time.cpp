@@ -9,10 +9,10 @@ RefineResult refine_periodic(const domain::LabelImage4& cycle, const RefineParam
                              ProgressSink* sink, std::vector<std::string>* warnings) {
   const domain::TimePeriod period = domain::cycle_period(cycle);
   domain::LabelImage4 covering = domain::tile_cycle(cycle);
-  // The covering's ends along t are closed too, but nothing there is meshed for the output:
-  // only the closing of x, y and z concerns the user.
-  for (std::string& w : domain::validate_and_close(covering))
-    if (w.find("along t;") == std::string::npos) warnings->push_back(std::move(w));
+  // The covering's ends along t are closed too, but nothing there is meshed for the output.
+  std::vector<std::string> closing = domain::validate_and_close(covering);
+  domain::drop_time_padding_warnings(closing);
+  warnings->insert(warnings->end(), closing.begin(), closing.end());
   const domain::SurfaceOracle oracle(covering);
   RefineParams periodic = params;
   periodic.period_start = period.start;

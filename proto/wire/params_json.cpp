@@ -37,6 +37,16 @@ void read_params(const nlohmann::json& object, v1::RefineParams* params) {
     else
       bad("rule_order '" + order + "' is not one of r3_first, paper");
   }
+  // The same for time: open or periodic.
+  if (auto it = fields.find("time_topology"); it != fields.end()) {
+    const std::string topology = it->is_string() ? it->get<std::string>() : it->dump();
+    if (topology == "periodic" || topology == "TIME_TOPOLOGY_PERIODIC")
+      *it = "TIME_TOPOLOGY_PERIODIC";
+    else if (topology == "open" || topology == "TIME_TOPOLOGY_OPEN")
+      *it = "TIME_TOPOLOGY_OPEN";
+    else
+      bad("time_topology '" + topology + "' is not one of open, periodic");
+  }
   // Protobuf's JSON parser checks the values' types; parsed into a fresh message so that the
   // fields not named keep their values.
   v1::RefineParams parsed;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <csignal>
+#include <filesystem>
 #include <future>
 #include <map>
 #include <optional>
@@ -136,6 +137,47 @@ TEST(JobService, SmallIslandsAreCleanedByDefaultAndSaidSo) {
   ASSERT_EQ(kept.state(), v1::JOB_STATE_SUCCEEDED) << kept.error();
   EXPECT_EQ(kept.params().min_island_voxels(), 0u);
   EXPECT_TRUE(cleanup_warnings(kept).empty());
+}
+
+// A cycle submitted with --time-topology periodic: the job says so, the fetched mesh is closed
+// in time (the .m4d's periodic section, glued at the seam) over frames × time scale, its
+// certificate finds no defect, and the exports cover the period.
+TEST(JobService, APeriodicCycleWithTheRealClient) {
+  const std::string dir = make_temp_dir("mesh4d-periodic");
+  RunningServer server(dir + "/data");
+  ASSERT_FALSE(server.address().empty());
+  // A ball that lives across the end of the cycle, beside one that beats.
+  const auto image = domain::appearing_ball_phantom({36, 24, 24, 12}, {1, 1, 1, 1}, 10);
+  domain::write_nifti(image, dir + "/cycle.nii.gz");
+  const RunResult r = run_command(
+      {MESH4D_CLIENT_BIN, "--server", server.address(), "submit", dir + "/cycle.nii.gz", "--delta",
+       "2", "--time-topology", "periodic", "--wait", "--out", dir + "/cycle.m4d"},
+      std::chrono::seconds(120));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("(chosen from the data), periodic time"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("warning:"), std::string::npos) << r.output;
+  const mesh::Mesh4 m = mesh::read_m4d(dir + "/cycle.m4d");
+  ASSERT_TRUE(m.periodic());
+  const double time_scale = domain::automatic_time_scale(image, 2, true);
+  EXPECT_NEAR(m.period, 12 * time_scale, 1e-6);
+  EXPECT_NEAR(m.period_start, -time_scale / 2, 1e-6);
+  EXPECT_FALSE(m.periodic_twins.empty());
+  const auto check = mesh::check_boundary(m);
+  EXPECT_EQ(check.odd, 0u);
+  EXPECT_EQ(check.pinched, 0u);
+  const std::string id = r.output.substr(0, r.output.find('\n'));
+  const RunResult status =
+      run_command({MESH4D_CLIENT_BIN, "--server", server.address(), "status", id});
+  EXPECT_NE(status.output.find("per frame, periodic time"), std::string::npos) << status.output;
+  const RunResult exported = run_command({MESH4D_CLIENT_BIN, "export", dir + "/cycle.m4d", "--mfem",
+                                          dir + "/cycle.mfem", "--vtu", dir + "/vtu"});
+  ASSERT_EQ(exported.exit_code, 0) << exported.output;
+  EXPECT_NE(exported.output.find("cycle.mfem.v2v (periodic in time"), std::string::npos)
+      << exported.output;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/cycle.mfem.v2v"));
+  // Every whole time unit of the period: frames × time scale of them.
+  const std::string slices = "wrote " + std::to_string(static_cast<int>(m.period)) + " slices";
+  EXPECT_NE(exported.output.find(slices), std::string::npos) << exported.output;
 }
 
 TEST(JobService, SubmitWatchFetchWithTheRealClient) {

@@ -55,6 +55,20 @@ TEST(ParamsJson, TakesTheShortAndTheProtoNamesOfTheRuleOrders) {
   }
 }
 
+TEST(ParamsJson, TakesTheShortAndTheProtoNamesOfTheTimeTopologies) {
+  for (const auto& [name, topology] : {std::pair{"open", v1::TIME_TOPOLOGY_OPEN},
+                                       {"TIME_TOPOLOGY_OPEN", v1::TIME_TOPOLOGY_OPEN},
+                                       {"periodic", v1::TIME_TOPOLOGY_PERIODIC},
+                                       {"TIME_TOPOLOGY_PERIODIC", v1::TIME_TOPOLOGY_PERIODIC}}) {
+    v1::RefineParams p;
+    parse_params(std::string(R"({"time_topology": ")") + name + "\"}", &p);
+    EXPECT_EQ(p.time_topology(), topology) << name;
+  }
+  EXPECT_NE(refusal(R"({"time_topology": "circular"})")
+                .find("time_topology 'circular' is not one of open, periodic"),
+            std::string::npos);
+}
+
 TEST(ParamsJson, KeepsTheFieldsItDoesNotName) {
   v1::RefineParams p;
   p.set_delta(4);
