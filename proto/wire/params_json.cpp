@@ -2,6 +2,8 @@
 
 #include <google/protobuf/util/json_util.h>
 
+#include <cctype>
+#include <initializer_list>
 #include <string>
 
 #include "wire/service_error.h"
@@ -11,6 +13,26 @@ namespace {
 
 [[noreturn]] void bad(const std::string& message) {
   throw ServiceError(ErrorCode::invalid_argument, message);
+}
+
+// The enum field `key`, when present, as the proto names its value: a short name (lower case,
+// what follows `prefix`) or the proto's own; anything else is refused, naming the short ones.
+void spell_enum(nlohmann::json& fields, const char* key, const std::string& prefix,
+                std::initializer_list<const char*> names) {
+  const auto it = fields.find(key);
+  if (it == fields.end()) return;
+  const std::string value = it->is_string() ? it->get<std::string>() : it->dump();
+  std::string listed;
+  for (const std::string name : names) {
+    std::string upper = name;
+    for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    if (value == name || value == prefix + upper) {
+      *it = prefix + upper;
+      return;
+    }
+    listed += (listed.empty() ? "" : ", ") + name;
+  }
+  bad(std::string(key) + " '" + value + "' is not one of " + listed);
 }
 
 }  // namespace
@@ -27,26 +49,9 @@ void read_params(const nlohmann::json& object, v1::RefineParams* params) {
     bad("unknown parameter '" + key + "' (the parameters are " + known + ")");
   }
   nlohmann::json fields = object;
-  // The short names of the rule orders, and the proto's own.
-  if (auto it = fields.find("rule_order"); it != fields.end()) {
-    const std::string order = it->is_string() ? it->get<std::string>() : it->dump();
-    if (order == "paper" || order == "RULE_ORDER_PAPER")
-      *it = "RULE_ORDER_PAPER";
-    else if (order == "r3_first" || order == "RULE_ORDER_R3_FIRST")
-      *it = "RULE_ORDER_R3_FIRST";
-    else
-      bad("rule_order '" + order + "' is not one of r3_first, paper");
-  }
-  // The same for time: open or periodic.
-  if (auto it = fields.find("time_topology"); it != fields.end()) {
-    const std::string topology = it->is_string() ? it->get<std::string>() : it->dump();
-    if (topology == "periodic" || topology == "TIME_TOPOLOGY_PERIODIC")
-      *it = "TIME_TOPOLOGY_PERIODIC";
-    else if (topology == "open" || topology == "TIME_TOPOLOGY_OPEN")
-      *it = "TIME_TOPOLOGY_OPEN";
-    else
-      bad("time_topology '" + topology + "' is not one of open, periodic");
-  }
+  // The short names of the enums' values, and the proto's own.
+  spell_enum(fields, "rule_order", "RULE_ORDER_", {"r3_first", "paper"});
+  spell_enum(fields, "time_topology", "TIME_TOPOLOGY_", {"open", "periodic"});
   // Protobuf's JSON parser checks the values' types; parsed into a fresh message so that the
   // fields not named keep their values.
   v1::RefineParams parsed;
