@@ -1,7 +1,7 @@
 // refine_bench's comparison with what a user would otherwise do: the 4D mesh of a patient's
-// whole cycle, as a job with `--delta` alone makes it, against each 3D frame meshed separately by
-// CGAL Mesh_3 (mesh3_frames.h): times, and each frame's volume per label against the voxel
-// volume.
+// whole cycle, as a job with `--delta` alone makes it (open time with its caps, and periodic
+// time), against each 3D frame meshed separately by CGAL Mesh_3 (mesh3_frames.h): times, and
+// each frame's volume per label against the voxel volume.
 #pragma once
 
 #include <cstdint>
@@ -13,15 +13,18 @@
 
 namespace mesh4d::bench {
 
-/// Per label (cavity, myocardium) and per mesher (mesh4d, Mesh_3): the mean |volume error| over
-/// the frames and the error of largest magnitude, percent.
+/// The meshers compared: mesh4d in open time (time caps), mesh4d in periodic time, Mesh_3.
+inline constexpr int kMeshers = 3;
+
+/// Per label (cavity, myocardium) and per mesher: the mean |volume error| over the frames and
+/// the error of largest magnitude, percent.
 struct FramesSummary {
   bool ok = false;
-  double mean[2][2] = {};   // [mesh4d, Mesh_3][label 1, 2]
-  double worst[2][2] = {};  // signed
-  double seconds[2] = {};   // the 4D run; Mesh_3's frames in all
-  std::uint64_t pentatopes = 0;
-  double time_scale = 0;
+  double mean[kMeshers][2] = {};   // [open, periodic, Mesh_3][label 1, 2]
+  double worst[kMeshers][2] = {};  // signed
+  double seconds[kMeshers] = {};   // the two 4D runs; Mesh_3's frames in all
+  std::uint64_t pentatopes[2] = {};
+  double time_scale[2] = {};
 };
 
 /// Meshes `image` both ways; prints the per-frame table when `print_frames`. Labels 1 and 2.

@@ -30,6 +30,7 @@
 #include "frames_comparison.h"
 #include "mesh/mesh_check.h"
 #include "refine/fidelity_certificate.h"
+#include "refine/periodic_time.h"
 #include "refine/refiner.h"
 #include "refine/time_caps.h"
 #include "refine/two_sided_distance.h"
@@ -53,6 +54,9 @@ std::size_t g_min_island_voxels = domain::kDefaultMinIslandVoxels;
 // --time-caps off: the image closed with background half a frame past its ends, as before the
 // time caps (refine/time_caps.h), for comparison.
 bool g_time_caps = true;
+// --time periodic: every row meshed in periodic time (refine/periodic_time.h), the cycle's last
+// frame next to its first.
+bool g_periodic = false;
 
 // Runs in a child: the cleanup, oracle and refinement of `image` with `params`; fixed-size
 // results only.
@@ -81,6 +85,7 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
     domain::clean_segmentation(closed, g_min_island_voxels);
     std::vector<std::string> warnings;
     const auto r = [&] {
+      if (g_periodic) return refine::refine_periodic(closed, params, nullptr, &warnings);
       if (g_time_caps) return refine::refine_with_time_caps(closed, params, nullptr, &warnings);
       domain::validate_and_close(closed);
       const domain::SurfaceOracle oracle(closed);
@@ -250,6 +255,7 @@ void print_over_seeds() {
 int main(int argc, char** argv) {
   for (int i = 1; i + 1 < argc; i += 2) {
     if (std::strcmp(argv[i], "--time-caps") == 0) g_time_caps = std::strcmp(argv[i + 1], "off");
+    if (std::strcmp(argv[i], "--time") == 0) g_periodic = !std::strcmp(argv[i + 1], "periodic");
     if (std::strcmp(argv[i], "--only") == 0) g_only = argv[i + 1];
     if (std::strcmp(argv[i], "--min-island-voxels") == 0)
       g_min_island_voxels = std::strtoull(argv[i + 1], nullptr, 10);
@@ -270,8 +276,9 @@ int main(int argc, char** argv) {
     if (k > 0) seeds.push_back(',');
     seeds.append(std::to_string(g_seeds[k]));
   }
-  std::printf("Sequential refinement (R1-R5), one thread, junction spacing %g delta, %s\n",
-              g_junction_spacing, seeds.c_str());
+  std::printf("Sequential refinement (R1-R5), one thread, junction spacing %g delta, %s, %s time\n",
+              g_junction_spacing, seeds.c_str(),
+              g_periodic ? "periodic" : (g_time_caps ? "open (time caps)" : "open (no caps)"));
   std::printf(
       "| input | rule order | δ | pentatopes | boundary tets | vertices | shortest edge | "
       "radius-edge max / mean / std | normalized volume min / mean / std | time s | "
@@ -306,7 +313,7 @@ int main(int argc, char** argv) {
     row((name + ", file spacing, 25 frames").c_str(), image, 5, refine::RuleOrder::r3_first);
     // What `--delta 5` alone gives: the time scale chosen from the data (domain/time_scale.h).
     domain::LabelImage4 scaled = image;
-    scaled.set_time_spacing(domain::automatic_time_scale(image, 5));
+    scaled.set_time_spacing(domain::automatic_time_scale(image, 5, g_periodic));
     row((name + ", default time scale, 25 frames").c_str(), scaled, 5, refine::RuleOrder::r3_first);
     const auto& d = image.dims();
     domain::LabelImage4 paper({d[0], d[1], d[2], 15}, {1.77, 1.77, 6, 1});
