@@ -93,7 +93,7 @@ FramesSummary compare_with_mesh3_frames(const char* name, const domain::LabelIma
           if (l == 1 || l == 2) reference[l - 1] += voxel;
         }
     const FrameMesh m = mesh_frame_with_cgal(image, t, delta, 1.0);
-    summary.seconds[1] += m.seconds;
+    summary.seconds[2] += m.seconds;
     double e[kMeshers][2];
     for (int l = 0; l < 2; ++l) {
       for (int k = 0; k < 2; ++k) e[k][l] = percent_error(ours[k].volume[t][l], reference[l]);

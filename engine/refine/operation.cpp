@@ -165,6 +165,11 @@ Outcome Operation::process(Worker& w, const Candidate& k) {
       w.guard ? kProvisionalId : static_cast<VertexId>(state_.tri.store().vertex_slots());
   if (d.kind == VertexKind::free && !state_.tri.in_conflict(k.cell, d.point, next_id))
     d.point = state_.centroid_of(k.cell);
+  // In periodic time a free point beyond the trusted band (the circumcenter of a pentatope that
+  // reaches a box corner) would not go in, and the pentatope would stay; its centroid lies
+  // inside it, nearer the middle sheet.
+  if (d.kind == VertexKind::free && !state_.covering.trusted(d.point))
+    d.point = state_.centroid_of(k.cell);
   // The sizing bound's insertions count as R3's (both insert the circumcenter inside Ω).
   const Outcome outcome =
       insert(w, d.point, d.kind, k.cell, d.rule == Rule::sizing ? Rule::R3 : d.rule,

@@ -188,11 +188,19 @@ PieceMatching ManifoldRelabeling::match_image_pieces(bool leave_links) {
       if (!inserted && pieces.members[it->second].size() < cells.size()) it->second = root;
     }
 
+    // In periodic time only pieces of the middle sheet are acted on: their moves go to every
+    // sheet (RefinementState::set_label), and a piece elsewhere may be one the covering's
+    // cut-off ends made.
+    const auto in_middle_sheet = [&](const std::vector<CellId>& cells) {
+      return std::any_of(cells.begin(), cells.end(),
+                         [&](CellId c) { return state_.covering.representative(state_.tri, c); });
+    };
     // Split: a piece that owns no image piece (or stands for none: pentatopes moved into the
     // label only), smallest first.
     std::vector<std::pair<std::size_t, std::size_t>> extra;  // (size, root)
     for (const auto& [root, cells] : pieces.members)
-      if (!pieces.owned.count(root) && largest[state_.output_label(cells[0])] != root)
+      if (!pieces.owned.count(root) && largest[state_.output_label(cells[0])] != root &&
+          in_middle_sheet(cells))
         extra.push_back({cells.size(), root});
     std::sort(extra.begin(), extra.end());
     for (const auto& [size, piece_root] : extra) {
@@ -264,6 +272,7 @@ PieceMatching ManifoldRelabeling::match_image_pieces(bool leave_links) {
     for (const auto& [root, owned] : pieces.owned) {
       if (owned.size() < 2 || touched.count(root)) continue;
       const std::vector<CellId>& cells = pieces.members[root];
+      if (!in_middle_sheet(cells)) continue;
       const Label l = state_.output_label(cells[0]);
       // The piece's main image piece: of those it owns, the one most of its pentatopes stand for.
       std::unordered_map<std::uint32_t, std::size_t> count;

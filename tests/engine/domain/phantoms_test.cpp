@@ -40,7 +40,7 @@ TEST(Phantoms, EveryNamedPhantomHasForegroundAndTheDocumentedLabels) {
     const LabelImage4 image = make_phantom(name);
     const auto labels = image.labels();
     if (name == "ventricle" || name == "thin-wall" || name == "corner-contact" ||
-        name == "diagonal-island")
+        name == "diagonal-island" || name == "appearing-ball")
       EXPECT_EQ(labels, (std::vector<Label>{0, 1, 2})) << name;
     else if (name == "moving-junction")
       EXPECT_EQ(labels, (std::vector<Label>{0, 1, 2, 3})) << name;

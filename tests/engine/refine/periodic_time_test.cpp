@@ -210,7 +210,10 @@ TEST(PeriodicTime, ABallThatLivesAcrossTheEndOfTheCycleIsOnePieceOfTheGluedMesh)
   const auto [ends, middle] = frame_errors(r.mesh, cycle);
   std::printf("worst frame volume error: %.3f first and last frames, %.3f the others\n", ends,
               middle);
-  EXPECT_LT(ends, 0.12);
+  // Balls of at most 7 voxels at δ 2 lose up to about a seventh of their volume to the sag of
+  // their facets in any frame; the frames at the seam lose no more than the others.
+  EXPECT_LT(ends, middle + 0.03);
+  EXPECT_LT(middle, 0.2);
 }
 
 }  // namespace
