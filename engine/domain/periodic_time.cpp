@@ -1,5 +1,6 @@
 #include "domain/periodic_time.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace mesh4d::domain {
@@ -31,15 +32,18 @@ TimePeriod cycle_period(const LabelImage4& cycle) {
   return period;
 }
 
-LabelImage4 tile_cycle(const LabelImage4& cycle) {
+LabelImage4 tile_cycle(const LabelImage4& cycle, std::size_t margin_frames) {
   const Dims4& d = cycle.dims();
+  const std::size_t m = std::min(margin_frames, d[3]);
   Vec4 origin = cycle.origin();
-  origin[3] -= static_cast<double>(d[3]) * cycle.spacing()[3];
-  LabelImage4 out({d[0], d[1], d[2], 3 * d[3]}, cycle.spacing(), origin);
-  const std::size_t voxels = cycle.voxel_count();
-  for (std::size_t copy = 0; copy < 3; ++copy)
-    for (std::size_t i = 0; i < voxels; ++i)
-      if (const Label l = cycle.at(i)) out.set(copy * voxels + i, l);
+  origin[3] -= static_cast<double>(m) * cycle.spacing()[3];
+  LabelImage4 out({d[0], d[1], d[2], d[3] + 2 * m}, cycle.spacing(), origin);
+  const std::size_t frame = d[0] * d[1] * d[2];
+  for (std::size_t t = 0; t < d[3] + 2 * m; ++t) {
+    const std::size_t source = (t + d[3] - m) % d[3];  // the cycle's frame at covering frame t
+    for (std::size_t i = 0; i < frame; ++i)
+      if (const Label l = cycle.at(source * frame + i)) out.set(t * frame + i, l);
+  }
   return out;
 }
 

@@ -6,6 +6,7 @@
 // invariant under a shift by T. The middle sheet's pentatopes are the mesh.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -31,8 +32,10 @@ double snap_time(double t);
 /// last. Throws ImageError for fewer than two frames (nothing to be periodic in).
 TimePeriod cycle_period(const LabelImage4& cycle);
 
-/// The covering: `cycle` tiled three times along t, the middle copy where the cycle lies.
-LabelImage4 tile_cycle(const LabelImage4& cycle);
+/// The covering: `cycle` where it lies, with its last `margin_frames` frames before it and its
+/// first ones after it (at most a whole copy on each side: the cycle tiled three times, the
+/// default).
+LabelImage4 tile_cycle(const LabelImage4& cycle, std::size_t margin_frames = SIZE_MAX);
 
 /// Drops validate_and_close's warnings about padding along t: a cycle has no ends in time to
 /// close, so they do not concern its user.

@@ -54,6 +54,7 @@ Outcome Operation::insert_copies(Worker& w, const Point4& point, VertexKind kind
   const std::array<Point4, 3> copies = state_.covering.copies(point);
   Outcome first = Outcome::skipped;
   for (int s = 0; s < 3; ++s) {
+    if (s > 0 && !state_.covering.in_covering(copies[s])) continue;
     // The hint pentatope lies in one sheet: the walk to the other copies starts from the
     // pentatope the last insertion made in theirs.
     CellId start = hint;

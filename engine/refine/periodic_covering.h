@@ -21,7 +21,9 @@ namespace mesh4d::refine {
 class PeriodicCovering {
  public:
   PeriodicCovering() = default;
-  explicit PeriodicCovering(const domain::TimePeriod& period) : period_(period) {}
+  /// `margin`: how far the covering reaches past each end of the period (0: a whole period).
+  PeriodicCovering(const domain::TimePeriod& period, double margin)
+      : period_(period), margin_(margin > 0 ? margin : period.length) {}
 
   bool active() const { return period_.periodic(); }
   const domain::TimePeriod& period() const { return period_; }
@@ -32,11 +34,16 @@ class PeriodicCovering {
   }
   /// Whether something at time t is counted: in the middle sheet, or anywhere in open time.
   bool counts(double t) const { return !active() || in_middle(t); }
-  /// Whether a point's neighbourhood is a faithful copy of the cycle's: within T/2 of the
-  /// middle sheet (always, when time is open).
+  /// Whether a point's neighbourhood is a faithful copy of the cycle's: within half the margin
+  /// of the middle sheet (always, when time is open).
   bool trusted(const Point4& p) const {
-    return !active() || (p[3] >= period_.start - period_.length / 2 &&
-                         p[3] < period_.start + 1.5 * period_.length);
+    return !active() || (p[3] >= period_.start - margin_ / 2 &&
+                         p[3] < period_.start + period_.length + margin_ / 2);
+  }
+  /// Whether a point lies in the covering (within the margin of the middle sheet): a copy
+  /// beyond it is not inserted.
+  bool in_covering(const Point4& p) const {
+    return p[3] >= period_.start - margin_ && p[3] < period_.start + period_.length + margin_;
   }
   /// The lowest t of a pentatope's vertices (its anchor: a class's representative is the copy
   /// anchored in the middle sheet).
@@ -49,7 +56,8 @@ class PeriodicCovering {
   /// Whether the rules look at c: a representative, or a pentatope with a box corner (such
   /// pentatopes have no translates; at the start all of them have one).
   bool rules_apply(const delaunay::Triangulation& tri, delaunay::CellId c) const;
-  /// p's copies: p wrapped into the middle sheet, then one period below and one above.
+  /// p's copies: p wrapped into the middle sheet, then one period below and one above (those
+  /// two may lie beyond the covering: in_covering).
   std::array<Point4, 3> copies(const Point4& p) const;
   /// Records vertex v at point p, for the twin lookups.
   void add(mesh4d::VertexId v, const Point4& p) { where_[p] = v; }
@@ -67,6 +75,7 @@ class PeriodicCovering {
     std::size_t operator()(const Point4& p) const;
   };
   domain::TimePeriod period_;
+  double margin_ = 0;
   std::unordered_map<Point4, mesh4d::VertexId, PointHash> where_;
 };
 

@@ -1,8 +1,10 @@
-// Refinement of a cardiac cycle in periodic time (domain/periodic_time.h): the cycle tiled
-// three times, refined with every point's copies one period apart, and the middle sheet's
-// pentatopes output, glued at the seam (Mesh4::periodic_twins).
+// Refinement of a cardiac cycle in periodic time (domain/periodic_time.h): the cycle with a
+// margin of its own frames past each end (up to the cycle tiled three times), refined with
+// every point's copies one period apart, and the middle sheet's pentatopes output, glued at
+// the seam (Mesh4::periodic_twins).
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -11,6 +13,15 @@
 #include "refine/refiner.h"
 
 namespace mesh4d::refine {
+
+/// How far a labeled pentatope may reach in periodic time, in units of Δ: its circumradius is
+/// bounded by this (the patients' labeled pentatopes reach 2.3 Δ at most without the bound).
+inline constexpr double kLabeledReach = 3;
+
+/// The covering's margin past each end of the period, in frames: enough for pentatopes of
+/// circumradius kLabeledReach · Δ anchored up to half of it past the period to have their
+/// circumballs inside (four times that reach), at most a whole period.
+std::size_t periodic_margin_frames(const domain::LabelImage4& cycle, double delta);
 
 /// Meshes `cycle` (cleaned, not closed) as periodic in time, from half a frame before its first
 /// frame to half a frame past its last. RefineParams::period_start and period are set here; the

@@ -35,6 +35,8 @@ void validate(const RefineParams& p) {
   require(std::isfinite(p.period) && p.period >= 0, "period", p.period,
           "must be finite and ≥ 0 (0: open time)");
   require(std::isfinite(p.period_start), "period_start", p.period_start, "must be finite");
+  require(std::isfinite(p.period_margin) && p.period_margin >= 0 && p.period_margin <= p.period,
+          "period_margin", p.period_margin, "must be in [0, period] (0: a whole period)");
   require(p.vertex_budget >= 16, "vertex_budget", double(p.vertex_budget),
           "must be at least 16 (the box corners)");
 }

@@ -33,6 +33,9 @@ struct RefineParams {
   // the middle copy from period_start to period_start + period. 0: time is open.
   double period_start = 0;
   double period = 0;
+  // How far the covering reaches past each end of the period (domain::tile_cycle's margin
+  // frames × the time scale); 0: a whole period, the cycle tiled three times.
+  double period_margin = 0;
 };
 
 /// Bad parameters: the message names the parameter and the accepted range.

@@ -16,7 +16,8 @@ RefinementState::RefinementState(const domain::SurfaceOracle& oracle_in,
                                  const RefineParams& params_in)
     : oracle(oracle_in),
       params(params_in),
-      covering(domain::TimePeriod{params_in.period_start, params_in.period}),
+      covering(domain::TimePeriod{params_in.period_start, params_in.period},
+               params_in.period_margin),
       features(params_in.delta) {}
 
 void RefinementState::set_twin_labels(CellId c, domain::Label label) {
@@ -66,7 +67,8 @@ void RefinementState::insert_junctions() {
     if (!covering.active()) {
       points.push_back(j.point);
     } else if (covering.in_middle(j.point[3])) {  // each copy once, from the middle sheet's
-      for (const Point4& p : covering.copies(j.point)) points.push_back(p);
+      for (const Point4& p : covering.copies(j.point))
+        if (covering.in_covering(p)) points.push_back(p);
     }
   }
   // Before any rule runs, straight into the triangulation: the first admit() sees every cell.

@@ -42,10 +42,11 @@ RefineParams validated(const RefineParams& params) {
   if (p.period > 0) {
     // The copies of a point go in together, on one thread (Operation::insert).
     p.threads = 1;
-    // A labeled pentatope anchored in the trusted band (PeriodicCovering::trusted, T/2 around
-    // the middle sheet) then has its circumball within the covering, which spans T more on
-    // each side: it is a pentatope of the periodic Delaunay triangulation, not of the cut-off.
-    const double bound = p.period / 4;
+    // A labeled pentatope anchored in the trusted band (PeriodicCovering::trusted, half the
+    // margin around the middle sheet) then has its circumball within the covering, which
+    // reaches the whole margin past each end: it is a pentatope of the periodic Delaunay
+    // triangulation, not of the cut-off.
+    const double bound = (p.period_margin > 0 ? p.period_margin : p.period) / 4;
     p.max_interior_radius =
         p.max_interior_radius > 0 ? std::min(p.max_interior_radius, bound) : bound;
   }
@@ -53,6 +54,23 @@ RefineParams validated(const RefineParams& params) {
 }
 
 }  // namespace
+
+std::vector<std::string> manifold_warnings(std::size_t failing_links, std::size_t pinched) {
+  std::vector<std::string> out;
+  if (failing_links) {
+    std::ostringstream s;
+    s << failing_links << " boundary vertices have a link that is not a 2-sphere in "
+      << "a region's boundary where labels meet; a smaller delta resolves more of them";
+    out.push_back(s.str());
+  }
+  if (pinched) {
+    std::ostringstream s;
+    s << pinched << " boundary triangles are pinched (in four or more boundary tetrahedra of "
+      << "one label) where labels meet; a smaller delta resolves more of them";
+    out.push_back(s.str());
+  }
+  return out;
+}
 
 struct Refiner::Pipeline {
   Pipeline(const domain::SurfaceOracle& oracle, const RefineParams& params)
@@ -129,18 +147,13 @@ struct Refiner::Pipeline {
 
   // The pinches and non-manifold vertices left, the statistics and the counters.
   void finish(RefineResult& result) {
-    if (result.non_manifold_left) {
-      std::ostringstream s;
-      s << result.non_manifold_left << " boundary vertices have a link that is not a 2-sphere in "
-        << "a region's boundary where labels meet; a smaller delta resolves more of them";
-      result.warnings.push_back(s.str());
-    }
-    // A pinched triangle's vertices fail their links: no count is needed when none does.
-    if (const std::size_t pinches = result.non_manifold_left ? counted_pinches() : 0) {
-      std::ostringstream s;
-      s << pinches << " boundary triangles are pinched (in four or more boundary tetrahedra of "
-        << "one label) where labels meet; a smaller delta resolves more of them";
-      result.warnings.push_back(s.str());
+    // In periodic time the glued mesh says (refine_periodic): the covering's other sheets may
+    // hold labels that are not yet their representatives'.
+    if (!state.covering.active()) {
+      // A pinched triangle's vertices fail their links: no count is needed when none does.
+      const std::size_t pinches = result.non_manifold_left ? counted_pinches() : 0;
+      for (std::string& w : manifold_warnings(result.non_manifold_left, pinches))
+        result.warnings.push_back(std::move(w));
     }
     result.stats = mesh::compute_stats(result.mesh, state.params.threads);
     const Progress done = meter.totals();
@@ -153,18 +166,7 @@ struct Refiner::Pipeline {
     result.stats.elapsed_seconds = meter.elapsed_seconds();
   }
 
-  // The pinches left, in periodic time those of the middle sheet only (the others are their
-  // copies, or lie where the covering is cut off).
-  std::size_t counted_pinches() {
-    const auto& st = state.tri.store();
-    std::size_t n = 0;
-    for (const PinchedTriangle& p : relabeling.current_pinches()) {
-      double lowest = st.point(p.triangle[0])[3];
-      for (mesh4d::VertexId v : p.triangle) lowest = std::min(lowest, st.point(v)[3]);
-      n += state.covering.counts(lowest);
-    }
-    return n;
-  }
+  std::size_t counted_pinches() { return relabeling.current_pinches().size(); }
 
   RefinementState state;
   Rules rules;

@@ -65,6 +65,10 @@ class Refiner final {
   std::unique_ptr<Pipeline> pipeline_;
 };
 
+/// The warnings for boundary vertices whose link fails in a region and for pinched boundary
+/// triangles (none for zero counts).
+std::vector<std::string> manifold_warnings(std::size_t failing_links, std::size_t pinched);
+
 /// Refines once: Refiner(oracle, params).run(sink).
 RefineResult refine(const domain::SurfaceOracle& oracle, const RefineParams& params,
                     ProgressSink* sink = nullptr);
