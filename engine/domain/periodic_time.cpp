@@ -6,7 +6,8 @@
 namespace mesh4d::domain {
 
 double snap_time(double t) {
-  return std::nearbyint(t / kTimeQuantum) * kTimeQuantum;
+  // + 0.0 makes a −0.0 (a tiny negative time rounded to zero) +0.0.
+  return std::nearbyint(t / kTimeQuantum) * kTimeQuantum + 0.0;
 }
 
 double TimePeriod::wrap(double t) const {

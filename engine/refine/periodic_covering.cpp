@@ -13,8 +13,10 @@ using delaunay::kNoVertex;
 std::size_t PeriodicCovering::PointHash::operator()(const Point4& p) const {
   std::size_t h = 0;
   for (double x : p) {
+    // −0.0 == 0.0: both must hash alike (a time wrapped to −0.0 is looked up as 0.0).
+    const double value = x == 0 ? 0.0 : x;
     std::uint64_t bits;
-    std::memcpy(&bits, &x, sizeof bits);
+    std::memcpy(&bits, &value, sizeof bits);
     h = (h ^ bits) * 0x9E3779B97F4A7C15ull;
   }
   return h ^ (h >> 29);
