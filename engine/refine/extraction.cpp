@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <stdexcept>
+#include <utility>
 
 #include "support/parallel_parts.h"
 
@@ -60,14 +61,14 @@ mesh::Mesh4 extract(const RefinementState& state, std::vector<std::string>& warn
 
   // In periodic time, a vertex past the middle sheet is glued to its twin one period earlier,
   // which the mesh then holds too.
-  std::vector<VertexId> earlier;
+  std::vector<std::pair<VertexId, VertexId>> twins;  // (past the period, one period earlier)
   if (state.covering.active()) {
     for (VertexId v = 0; v < st.vertex_slots(); ++v) {
       if (!used[v] || state.covering.in_middle(st.point(v)[3])) continue;
       const VertexId e = state.covering.twin(state.tri, v, -1);
       if (e == delaunay::kNoVertex)
         throw std::logic_error("Refiner: a vertex past the period has no twin one period earlier");
-      earlier.push_back(v);
+      twins.emplace_back(v, e);
       used[e] = 1;
     }
   }
@@ -115,9 +116,8 @@ mesh::Mesh4 extract(const RefinementState& state, std::vector<std::string>& warn
   if (state.covering.active()) {
     mesh.period_start = state.covering.period().start;
     mesh.period = state.covering.period().length;
-    for (VertexId v : earlier)
-      mesh.periodic_twins.push_back(
-          {vertex_index[v], vertex_index[state.covering.twin(state.tri, v, -1)]});
+    for (const auto& [later, earlier] : twins)
+      mesh.periodic_twins.push_back({vertex_index[later], vertex_index[earlier]});
   }
 
   if (mesh.pentatopes.empty())

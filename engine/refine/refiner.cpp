@@ -151,7 +151,8 @@ struct Refiner::Pipeline {
     // hold labels that are not yet their representatives'.
     if (!state.covering.active()) {
       // A pinched triangle's vertices fail their links: no count is needed when none does.
-      const std::size_t pinches = result.non_manifold_left ? counted_pinches() : 0;
+      const std::size_t pinches =
+          result.non_manifold_left ? relabeling.current_pinches().size() : 0;
       for (std::string& w : manifold_warnings(result.non_manifold_left, pinches))
         result.warnings.push_back(std::move(w));
     }
@@ -165,8 +166,6 @@ struct Refiner::Pipeline {
     result.rules_seconds = rules_seconds;
     result.stats.elapsed_seconds = meter.elapsed_seconds();
   }
-
-  std::size_t counted_pinches() { return relabeling.current_pinches().size(); }
 
   RefinementState state;
   Rules rules;
