@@ -31,6 +31,7 @@ struct Run {
   std::uint64_t pentatopes, rollbacks, insertions[5], removals, fingerprint;
   double seconds, rules_seconds, contention, idle, rho_max, tau_min;
   bool valid;
+  std::array<double, refine::kStages> stages;
 };
 
 double median(std::vector<double> v) {
@@ -80,6 +81,8 @@ int main(int argc, char** argv) {
     std::vector<double> seconds, rules, contention, idle, pentatopes, rollbacks, rho, tau, removals,
         speedup;
     std::array<std::vector<double>, 5> insertions;
+    std::array<std::vector<double>, refine::kStages> stages;
+    std::vector<double> serial;
     std::vector<std::uint64_t> fingerprints;  // one per seed, in seed order
     bool valid = true;
   };
@@ -110,7 +113,8 @@ int main(int argc, char** argv) {
                    r.idle_seconds,
                    r.stats.radius_edge_ratio.max,
                    r.stats.normalized_volume.min,
-                   delaunay::check_triangulation(refiner.triangulation()).ok};
+                   delaunay::check_triangulation(refiner.triangulation()).ok,
+                   r.stages.seconds};
       });
       if (!run) {
         s.valid = false;
@@ -131,6 +135,10 @@ int main(int argc, char** argv) {
       s.tau.push_back(run->tau_min);
       s.valid &= run->valid;
       s.fingerprints.push_back(run->fingerprint);
+      refine::StageSeconds stages;
+      stages.seconds = run->stages;
+      for (int st = 0; st < refine::kStages; ++st) s.stages[st].push_back(run->stages[st]);
+      s.serial.push_back(stages.serial() / run->seconds);
     }
   }
   double reference = 0;
@@ -152,6 +160,22 @@ int main(int argc, char** argv) {
         median(s.insertions[2]), median(s.insertions[3]), median(s.insertions[4]),
         median(s.removals), *std::max_element(s.rho.begin(), s.rho.end()),
         *std::min_element(s.tau.begin(), s.tau.end()), s.valid ? "yes" : "NO");
+  }
+  // Where the time goes: each stage's median wall-clock seconds (the rules' phases apart), and
+  // the share of the run spent in stages that run on one thread (Amdahl's serial fraction).
+  std::printf("\nStages, median seconds\n| threads |");
+  for (int st = 0; st < refine::kStages; ++st)
+    std::printf(" %s%s |", refine::stage_name(static_cast<refine::Stage>(st)),
+                refine::runs_on_threads(static_cast<refine::Stage>(st)) ? "" : " (1 thread)");
+  std::printf(" serial share |\n|---|");
+  for (int st = 0; st <= refine::kStages; ++st) std::printf("---|");
+  std::printf("\n");
+  for (std::size_t i = 0; i < threads.size(); ++i) {
+    if (series[i].seconds.empty()) continue;
+    std::printf("| %u |", threads[i]);
+    for (int st = 0; st < refine::kStages; ++st)
+      std::printf(" %.3f |", median(series[i].stages[st]));
+    std::printf(" %.1f %% |\n", 100 * median(series[i].serial));
   }
   // Each run's mesh (bench::mesh_fingerprint): with one thread, a seed fixes the mesh, so two
   // builds that refine alike print the same lines (scripts/mesh_hashes compares them).

@@ -151,7 +151,7 @@ std::vector<NonManifoldVertex> find_non_manifold_vertices(const RefinementState&
   }
 
   const unsigned parts = static_cast<unsigned>(std::min<std::size_t>(
-      state.params.threads, std::max<std::size_t>(1, boundary.size() / kScanPerThread)));
+      working_threads(state.params), std::max<std::size_t>(1, boundary.size() / kScanPerThread)));
   std::vector<std::vector<NonManifoldVertex>> found(parts);
   support::run_parts(parts, [&](unsigned part) {
     const auto [begin, end] = support::part_range(boundary.size(), part, parts);

@@ -77,6 +77,9 @@ struct ParallelRefiner::Impl {
   bool queued_anywhere(const Shared& shared, Rule rule) const;  // in any worker's queues
   bool higher_in_flight(const Shared& shared) const;  // an R1–R4 operation under way anywhere
   void distribute_work(unsigned threads);             // all queued work split among the workers
+  // Past the job's thread budget: waits, counted idle and holding no work, until the budget
+  // takes it back or the phase ends.
+  void pause(Worker& w, Shared& shared);
 
   RefinementState& state_;
   Operation& operation_;
@@ -235,6 +238,32 @@ void ParallelRefiner::Impl::distribute_work(unsigned threads) {
   }
 }
 
+void ParallelRefiner::Impl::pause(Worker& w, Shared& shared) {
+  // Its queued and rolled-back work goes to worker 0, which never pauses: an idle worker holds
+  // no work, or the phase could end with some left.
+  Lane& lane = *lanes_[w.index];
+  Worker& keeper = workers_[0];
+  {
+    std::scoped_lock lock(w.queue_mutex, keeper.queue_mutex);
+    for (int r = 0; r < kQueuedRules; ++r) {
+      std::vector<Candidate> moved;
+      w.queues[r].copy_to(moved);
+      w.queues[r].clear();
+      keeper.queues[r].append(moved.begin(), moved.end());
+    }
+    for (const auto& [candidate, r] : lane.retry) keeper.queues[index_of(r)].push_back(candidate);
+    lane.retry.clear();
+    for (int r = 0; r < kQueuedRules; ++r) w.publish_length(r), keeper.publish_length(r);
+  }
+  const auto t0 = Clock::now();
+  if (shared.idle.fetch_add(1, std::memory_order_acq_rel) + 1 == shared.threads)
+    shared.finished.store(true, std::memory_order_release);
+  while (shared.running() && w.index >= working_threads(state_.params))
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  shared.idle.fetch_sub(1, std::memory_order_acq_rel);
+  w.idle_ns.fetch_add(nanoseconds_since(t0), std::memory_order_relaxed);
+}
+
 void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) {
   Lane& lane = *lanes_[w.index];
   const int me = static_cast<int>(w.index);
@@ -255,6 +284,11 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
   };
   try {
     while (shared.running()) {
+      if (w.index >= working_threads(state_.params)) {
+        release_priority();
+        pause(w, shared);
+        continue;
+      }
       const int holder = shared.priority.load(std::memory_order_acquire);
       if (holder >= 0 && holder != me) {
         // Another worker runs alone until it commits: wait, holding no lock.
@@ -419,7 +453,7 @@ std::size_t ParallelRefiner::Impl::insert_points(const std::vector<RepairPoint>&
   };
   // A share of a few points is not worth a thread (the first rounds have hundreds).
   const unsigned threads = static_cast<unsigned>(
-      std::min<std::size_t>(state_.params.threads, points.size() / kRepairShare));
+      std::min<std::size_t>(working_threads(state_.params), points.size() / kRepairShare));
   if (threads <= 1 || state_.tri.stamps_running_low()) {
     for (const RepairPoint& r : points) insert_serially(r);
     return inserted;

@@ -37,7 +37,7 @@ std::size_t table_size(const std::vector<std::vector<std::vector<T>>>& handed, u
 
 unsigned PinchScan::scan_parts(std::size_t items) const {
   const std::size_t useful = std::max<std::size_t>(1, items / kScanPerThread);
-  return static_cast<unsigned>(std::min<std::size_t>(state_.params.threads, useful));
+  return static_cast<unsigned>(std::min<std::size_t>(working_threads(state_.params), useful));
 }
 
 std::size_t PinchScan::count(std::vector<PinchedTriangle>* pinched, PinchCounts* counts,

@@ -3,7 +3,10 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
+
+#include "refine/thread_budget.h"
 
 namespace mesh4d::refine {
 
@@ -29,6 +32,8 @@ struct RefineParams {
   double junction_spacing = 0;
   // Worker threads sharing the triangulation (parallel_refiner.cpp); 1: the sequential path.
   unsigned threads = 1;
+  // How many of them may work at once, changed while the job runs; null: all of them.
+  std::shared_ptr<const ThreadBudget> thread_budget;
   // Periodic time (domain/periodic_time.h): the oracle's image is the cycle tiled three times,
   // the middle copy from period_start to period_start + period. 0: time is open.
   double period_start = 0;
@@ -46,5 +51,11 @@ class ParamError : public std::invalid_argument {
 
 /// Throws ParamError for a non-finite or out-of-range value.
 void validate(const RefineParams& params);
+
+/// The threads that may work now: RefineParams::threads within the budget's limit.
+inline unsigned working_threads(const RefineParams& params) {
+  return params.thread_budget ? std::min(params.threads, params.thread_budget->limit())
+                              : params.threads;
+}
 
 }  // namespace mesh4d::refine

@@ -53,7 +53,71 @@ RefineParams validated(const RefineParams& params) {
   return p;
 }
 
+// Times the stages one after another; the rules' time inside a stage goes to Stage::rules.
+class StageClock {
+ public:
+  StageClock(const double& rules_seconds, StageSeconds& out)
+      : rules_(rules_seconds), rules_at_(rules_seconds), out_(out) {}
+  void lap(Stage stage) {
+    const auto now = std::chrono::steady_clock::now();
+    const double rules = rules_ - rules_at_;
+    out_[stage] += std::chrono::duration<double>(now - t_).count() - rules;
+    out_[Stage::rules] += rules;
+    t_ = now;
+    rules_at_ = rules_;
+  }
+
+ private:
+  const double& rules_;
+  double rules_at_;
+  StageSeconds& out_;
+  std::chrono::steady_clock::time_point t_ = std::chrono::steady_clock::now();
+};
+
 }  // namespace
+
+const char* stage_name(Stage stage) {
+  switch (stage) {
+    case Stage::start:
+      return "start";
+    case Stage::rules:
+      return "rules";
+    case Stage::pinch_repair:
+      return "pinch repair";
+    case Stage::relabeling:
+      return "relabeling";
+    case Stage::manifold:
+      return "manifold";
+    case Stage::piece_matching:
+      return "piece matching";
+    case Stage::manifold_sampling:
+      return "manifold sampling";
+    case Stage::extraction:
+      return "extraction";
+    case Stage::statistics:
+      return "statistics";
+  }
+  return "?";
+}
+
+bool runs_on_threads(Stage stage) {
+  switch (stage) {
+    case Stage::rules:
+    case Stage::pinch_repair:
+    case Stage::extraction:
+    case Stage::statistics:
+      return true;
+    default:
+      return false;
+  }
+}
+
+double StageSeconds::serial() const {
+  double sum = 0;
+  for (int s = 0; s < kStages; ++s)
+    if (!runs_on_threads(static_cast<Stage>(s))) sum += seconds[s];
+  return sum;
+}
 
 std::vector<std::string> manifold_warnings(std::size_t failing_links, std::size_t pinched) {
   std::vector<std::string> out;
@@ -156,7 +220,7 @@ struct Refiner::Pipeline {
       for (std::string& w : manifold_warnings(result.non_manifold_left, pinches))
         result.warnings.push_back(std::move(w));
     }
-    result.stats = mesh::compute_stats(result.mesh, state.params.threads);
+    result.stats = mesh::compute_stats(result.mesh, working_threads(state.params));
     const Progress done = meter.totals();
     result.stats.insertions = done.insertions;
     result.stats.removals = done.removals;
@@ -187,16 +251,22 @@ Refiner::~Refiner() = default;
 RefineResult Refiner::run(ProgressSink* sink) {
   Pipeline& p = *pipeline_;
   p.meter.start();
+  RefineResult result;
+  StageClock clock(p.rules_seconds, result.stages);
   p.start();
+  clock.lap(Stage::start);
   p.drain(sink);
+  clock.lap(Stage::rules);
   // The rules' counts, also for a job that refines faster than the report interval.
   p.meter.report(sink, Phase::refining, true);
-  RefineResult result;
   result.repair_seconds = p.repair_pinches(sink);
+  clock.lap(Stage::pinch_repair);
   result.relabeled = p.relabel(sink);
+  clock.lap(Stage::relabeling);
   ManifoldRelabeling manifold_step(p.state, p.scan);
   ManifoldRelabeling::Outcome manifold = manifold_step.run();
   result.relabeled += manifold.moved;
+  clock.lap(Stage::manifold);
   // Pieces first matched with links left to the sampling, then matched again on its mesh.
   PieceMatching matched = manifold_step.match_image_pieces(true);
   result.relabeled += matched.moved;
@@ -216,7 +286,9 @@ RefineResult Refiner::run(ProgressSink* sink) {
                               return a.vertex == b.vertex && a.label == b.label;
                             }),
                 failing.end());
+  clock.lap(Stage::piece_matching);
   const ManifoldSampling::Outcome sampled = p.sample_manifold(std::move(failing), sink);
+  clock.lap(Stage::manifold_sampling);
   result.relabeled += sampled.moved;
   result.manifold_rounds = sampled.rounds;
   result.manifold_points = sampled.points;
@@ -226,12 +298,15 @@ RefineResult Refiner::run(ProgressSink* sink) {
     result.relabeled += matched.moved;
     count(matched);
     mended = std::min(matched.links_mended, sampled.failing.size());
+    clock.lap(Stage::piece_matching);
   }
   p.relabeling.invalidate();
   result.non_manifold_left = sampled.failing.size() - mended;
   p.meter.report(sink, Phase::extracting, true);
   result.mesh = extract(p.state, result.warnings);
+  clock.lap(Stage::extraction);
   p.finish(result);
+  clock.lap(Stage::statistics);
   return result;
 }
 

@@ -3,6 +3,7 @@
 // labels meet, the pinch repair and the relabeling, then the mesh and its statistics.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -16,6 +17,32 @@
 #include "refine/refine_params.h"
 
 namespace mesh4d::refine {
+
+// The stages of a run, in order; the rules' phases run inside several of them and are counted
+// apart (Stage::rules), so the stages' times add up to the run's.
+enum class Stage {
+  start,              // the box, the junctions, every first pentatope admitted
+  rules,              // the rules applied (the workers' phases), in every stage
+  pinch_repair,       // the pinch counts and the repair points
+  relabeling,         // pinches closed by moving pentatopes to a neighbor label
+  manifold,           // the manifold scan and its relabeling
+  piece_matching,     // each region's pieces matched with the image's
+  manifold_sampling,  // ∂Ω sampled where the links still fail
+  extraction,         // the output mesh
+  statistics,         // its quality statistics
+};
+inline constexpr int kStages = 9;
+const char* stage_name(Stage stage);
+/// Whether a stage runs on the job's threads (the others run on one).
+bool runs_on_threads(Stage stage);
+
+struct StageSeconds {
+  std::array<double, kStages> seconds{};
+  double& operator[](Stage s) { return seconds[static_cast<int>(s)]; }
+  double operator[](Stage s) const { return seconds[static_cast<int>(s)]; }
+  /// The time of the stages that run on one thread whatever the job's threads.
+  double serial() const;
+};
 
 struct RefineResult {
   mesh::Mesh4 mesh;
@@ -38,6 +65,7 @@ struct RefineResult {
   double idle_seconds = 0;
   double rules_seconds = 0;   // spent applying the rules (the part that runs on the workers)
   double repair_seconds = 0;  // the pinch repair's rounds, the rules after each included
+  StageSeconds stages;        // where the time went, wall clock
 };
 
 class Refiner final {

@@ -16,7 +16,7 @@ RefineResult refine_with_time_caps(const domain::LabelImage4& image, const Refin
   if (!caps_warning.empty()) warnings->push_back(caps_warning);
   const domain::SurfaceOracle oracle(capped, caps);
   RefineResult result = refine(oracle, params, sink);
-  drop_ghosts(result, caps, params.threads);
+  drop_ghosts(result, caps, working_threads(params));
   return result;
 }
 

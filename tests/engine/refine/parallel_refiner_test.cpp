@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <future>
 #include <string>
+#include <thread>
 
 #include "delaunay/checker.h"
 #include "domain/phantoms.h"
@@ -104,16 +105,22 @@ class Watchdog final : public ProgressSink {
   std::atomic<bool> fired{false};
 };
 
+// A small dense phantom: every worker works next to the others.
+domain::LabelImage4 dense_hypersphere() {
+  return domain::hypersphere_phantom({20, 20, 20, 20}, {1, 1, 1, 1}, 7);
+}
+constexpr double kDenseDelta = 1.5;
+
 // Sixteen threads on this machine's two cores, on a small dense phantom (every worker works
 // next to the others): conflicts are certain, and only the contention manager's token keeps
 // them from rolling each other back forever. A watchdog turns a livelock into this test's
 // failure: it cancels the run, and if even that does not end it, the test reports and exits
 // (the future's destructor would wait on the livelock until CTest's timeout).
 TEST(ParallelRefinerProgress, OversubscribedThreadsStillFinish) {
-  const auto image = domain::hypersphere_phantom({20, 20, 20, 20}, {1, 1, 1, 1}, 7);
+  const auto image = dense_hypersphere();
   const domain::SurfaceOracle oracle(image);
   RefineParams params;
-  params.delta = 1.5;
+  params.delta = kDenseDelta;
   params.threads = 16;
   Watchdog watchdog;
   auto run = std::async(std::launch::async, [&] {
@@ -139,6 +146,60 @@ TEST(ParallelRefinerProgress, OversubscribedThreadsStillFinish) {
   EXPECT_GT(r.rollbacks, 0u) << "no conflict at all: this test did not exercise contention";
   EXPECT_LT(r.stats.radius_edge_ratio.max, params.radius_edge_bound);
   EXPECT_GE(r.stats.normalized_volume.min, params.sliver_bound);
+}
+
+// A server lowers a running job's thread budget while other jobs wait. Held at one working
+// thread out of eight, only worker 0 operates: no operation can meet another's lock.
+TEST(ThreadBudget, WorkersPastTheLimitPause) {
+  const auto image = dense_hypersphere();
+  const domain::SurfaceOracle oracle(image);
+  RefineParams params;
+  params.delta = kDenseDelta;
+  params.threads = 8;
+  params.thread_budget = std::make_shared<ThreadBudget>(1);
+  Refiner refiner(oracle, params);
+  const RefineResult r = refiner.run();
+  ASSERT_TRUE(delaunay::check_triangulation(refiner.triangulation()).ok);
+  EXPECT_EQ(r.rollbacks, 0u);
+  EXPECT_GT(r.idle_seconds, 0.0) << "the paused workers count as idle";
+  EXPECT_LT(r.stats.radius_edge_ratio.max, params.radius_edge_bound);
+}
+
+// The budget moves between 1 and 8 while the job runs (jobs arriving and ending): every pause
+// hands its work on, and the mesh passes the sequential path's checks.
+TEST(ThreadBudget, ALimitChangingMidRunLosesNoWork) {
+  const auto c = phantoms().back();  // the beating ventricle
+  const domain::SurfaceOracle oracle(c.image);
+  RefineParams params;
+  params.delta = c.delta;
+  params.threads = 8;
+  auto budget = std::make_shared<ThreadBudget>(8);
+  params.thread_budget = budget;
+  std::atomic<bool> done{false};
+  std::thread mover([&] {
+    for (unsigned i = 0; !done.load(); ++i) {
+      budget->set_limit(i % 2 ? 8 : 1 + i % 4);
+      std::this_thread::sleep_for(std::chrono::milliseconds(3));
+    }
+  });
+  Refiner refiner(oracle, params);
+  const RefineResult r = refiner.run();
+  done = true;
+  mover.join();
+  const auto check = delaunay::check_triangulation(refiner.triangulation());
+  ASSERT_TRUE(check.ok) << check.error;
+  EXPECT_LT(r.stats.radius_edge_ratio.max, params.radius_edge_bound);
+  EXPECT_GE(r.stats.normalized_volume.min, params.sliver_bound);
+  expect_only_manifold_warning(r);
+  for (domain::Label label : c.labels) {
+    if (label == 0) continue;
+    EXPECT_NEAR(output_volume(r.mesh, label) / voxel_volume(c.image, label), 1.0,
+                c.volume_tolerance);
+  }
+  expect_fidelity(r.mesh, oracle, c.labels, c.distance_bound * params.delta);
+  std::size_t components = 0;
+  EXPECT_EQ(unmeshed_components(c.image, r.mesh, &components), 0u);
+  EXPECT_EQ(components, c.components);
 }
 
 TEST(ParallelRefinerProgress, CancellationAndBudgetStopEveryWorker) {
