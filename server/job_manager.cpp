@@ -87,7 +87,11 @@ class JobManager::Sink : public refine::ProgressSink {
 
 JobManager::JobManager(JobStore& store, ManagerConfig config, JobObserver* observer,
                        JobRunner runner)
-    : store_(store), config_(config), observer_(observer), runner_(std::move(runner)) {}
+    : store_(store),
+      config_(config),
+      observer_(observer),
+      runner_(std::move(runner)),
+      cores_(config.cores, config.threads_per_job, config.running_jobs) {}
 
 JobManager::~JobManager() {
   stop();
@@ -202,9 +206,8 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
       << config_.max_vertex_budget;
     throw wire::ServiceError(wire::ErrorCode::resource_exhausted, m.str());
   }
-  const unsigned threads = spec.params().threads() == 0
-                               ? config_.threads_per_job
-                               : std::min(spec.params().threads(), config_.threads_per_job);
+  // 0: the job's share of the cores when it starts (core_allocator.h).
+  const unsigned threads = std::min(spec.params().threads(), config_.threads_per_job);
   // The parameters as the job keeps them, the server's defaults filled in.
   v1::RefineParams stored = to_proto(params, threads);
   stored.set_extend_time_frames(spec.params().extend_time_frames());
@@ -273,6 +276,7 @@ JobManager::Submitted JobManager::submit(const v1::JobSpec& spec, std::string da
   const std::string id = job.id();
   if (!job.request_id().empty()) by_request_id_[job.request_id()] = id;
   queue_.push_back(id);
+  cores_.queue_changed(queue_.size());
   Entry& entry = *e;
   jobs_[id] = std::move(e);
   v1::JobEvent event;
@@ -352,6 +356,7 @@ v1::Job JobManager::cancel(const std::string& id) {
   Entry& e = find(id);
   if (e.job.state() == v1::JOB_STATE_QUEUED) {
     queue_.erase(std::find(queue_.begin(), queue_.end(), id));
+    cores_.queue_changed(queue_.size());
     e.job.set_error("cancelled by request while queued");
     set_state(e, v1::JOB_STATE_CANCELLED);
     log_job(spdlog::level::info, id, "cancelled while queued");
@@ -368,8 +373,10 @@ void JobManager::remove(const std::string& id) {
     throw wire::ServiceError(
         wire::ErrorCode::failed_precondition,
         "job " + id + " is running: cancel it, then delete it once it has stopped");
-  if (e.job.state() == v1::JOB_STATE_QUEUED)
+  if (e.job.state() == v1::JOB_STATE_QUEUED) {
     queue_.erase(std::find(queue_.begin(), queue_.end(), id));
+    cores_.queue_changed(queue_.size());
+  }
   if (!e.job.request_id().empty()) by_request_id_.erase(e.job.request_id());
   store_.remove(id);
   jobs_.erase(id);
@@ -568,6 +575,7 @@ void JobManager::run(const std::string& id) {
   refine::RefineParams params;
   ImagePreparation preparation;
   bool strict = false;
+  CoreAllocator::Share share;
   {
     std::lock_guard lock(mu_);
     entry = &find(id);
@@ -579,9 +587,22 @@ void JobManager::run(const std::string& id) {
     preparation.time_scale = entry->job.params().time_scale();
     preparation.periodic = periodic_time(entry->job.params());
     strict = entry->job.params().strict();
+    share = cores_.start(entry->job.params().threads(), queue_.size());
   }
-  log_job(spdlog::level::info, id, "running: delta {}, time scale {} per frame, {} time",
-          params.delta, preparation.time_scale, preparation.periodic ? "periodic" : "open");
+  params.threads = share.threads;
+  params.thread_budget = share.budget;
+  // Whatever way the job ends, its cores go to the others.
+  struct Release {
+    JobManager& manager;
+    const CoreAllocator::Share& share;
+    ~Release() {
+      std::lock_guard lock(manager.mu_);
+      manager.cores_.finish(share, manager.queue_.size());
+    }
+  } release{*this, share};
+  log_job(spdlog::level::info, id,
+          "running: delta {}, time scale {} per frame, {} time, {} threads", params.delta,
+          preparation.time_scale, preparation.periodic ? "periodic" : "open", share.threads);
   Sink sink(*this, *entry);
   std::string error;
   v1::JobState end = v1::JOB_STATE_FAILED;

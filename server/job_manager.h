@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "core_allocator.h"
 #include "job_runner.h"
 #include "job_store.h"
 #include "mesh4d/v1/mesh4d.pb.h"
@@ -25,6 +26,7 @@ namespace mesh4d::server {
 struct ManagerConfig {
   unsigned running_jobs = 1;      // jobs refined at once
   unsigned threads_per_job = 1;   // cap on RefineParams.threads
+  unsigned cores = 1;             // shared among the running jobs (core_allocator.h)
   unsigned max_queued_jobs = 16;  // QUEUED jobs beyond this are refused
   std::uint64_t max_image_bytes = 2ull << 30;
   std::uint64_t max_vertex_budget = 20'000'000;
@@ -134,6 +136,7 @@ class JobManager {
   ManagerConfig config_;
   JobObserver* observer_;
   JobRunner runner_;
+  CoreAllocator cores_;
   mutable std::mutex mu_;
   mutable std::condition_variable changed_;  // any event, queue change or stop
   std::map<std::string, std::unique_ptr<Entry>> jobs_;

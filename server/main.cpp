@@ -109,9 +109,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   ManagerConfig config;
-  config.running_jobs = options.running_jobs;
-  config.threads_per_job =
-      options.threads_per_job ? options.threads_per_job : std::thread::hardware_concurrency();
+  // Every core to a lone job, fewer per job as the queue grows (core_allocator.h); the two
+  // options cap that.
+  config.cores = std::max(1u, std::thread::hardware_concurrency());
+  config.running_jobs = options.running_jobs ? options.running_jobs : config.cores;
+  config.threads_per_job = options.threads_per_job ? options.threads_per_job : config.cores;
   config.max_queued_jobs = options.max_queued_jobs;
   config.max_image_bytes = options.max_image_mb << 20;
   config.max_vertex_budget = options.max_vertex_budget;

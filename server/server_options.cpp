@@ -68,11 +68,13 @@ void add_server_options(CLI::App& app, ServerOptions& o) {
   app.add_option("--data-dir", o.data_dir, "where jobs, inputs and results are kept")
       ->envname("MESH4D_DATA_DIR")
       ->capture_default_str();
-  app.add_option("--running-jobs", o.running_jobs, "jobs refined at once")
+  app.add_option("--running-jobs", o.running_jobs,
+                 "most jobs refined at once (0: one per core; the cores are shared among them)")
       ->envname("MESH4D_RUNNING_JOBS")
-      ->check(CLI::Range(1u, 256u))
+      ->check(CLI::Range(0u, 256u))
       ->capture_default_str();
-  app.add_option("--threads-per-job", o.threads_per_job, "threads per job (0: every core)")
+  app.add_option("--threads-per-job", o.threads_per_job,
+                 "most threads a job uses (0: every core, for a job alone)")
       ->envname("MESH4D_THREADS_PER_JOB")
       ->capture_default_str();
   app.add_option("--max-queued-jobs", o.max_queued_jobs, "queued jobs beyond this are refused")

@@ -19,7 +19,7 @@ struct ServerOptions {
   /// When set, the bound port is written here (atomically) once the server accepts calls.
   std::string port_file;
   std::string data_dir = "mesh4d-data";  // jobs, inputs and results
-  unsigned running_jobs = 1;             // jobs refined at once
+  unsigned running_jobs = 0;             // jobs refined at once; 0: one per core
   unsigned threads_per_job = 0;          // 0: every core
   unsigned max_queued_jobs = 16;
   std::uint64_t max_image_mb = 2048;

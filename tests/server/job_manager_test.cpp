@@ -83,6 +83,35 @@ TEST_F(JobManagerTest, RunsJobsInTheOrderTheyCameAndServesTheirResults) {
   EXPECT_EQ(jobs.result(ids[1]).job.stats().pentatopes(), 12u);
 }
 
+// The cores go to the running jobs (core_allocator.h): a lone job gets all of them, a second
+// one half, and the first gets them back when the second ends; threads asked for are kept.
+TEST_F(JobManagerTest, SharesTheCoresAmongTheRunningJobs) {
+  ManagerConfig config;
+  config.running_jobs = 4;
+  config.threads_per_job = 16;
+  config.cores = 16;
+  JobManager jobs(store_, config, nullptr, fake_.runner());
+  jobs.start();
+  jobs.submit(upload(21).spec, upload(21).data);
+  ASSERT_TRUE(fake_.wait_started(1));
+  EXPECT_EQ(fake_.threads(21), 16u);
+  EXPECT_EQ(fake_.limit(21), 16u);
+  const std::string second = jobs.submit(upload(22).spec, upload(22).data).job.id();
+  ASSERT_TRUE(fake_.wait_started(2));
+  EXPECT_EQ(fake_.threads(22), 8u);
+  EXPECT_EQ(fake_.limit(21), 8u);
+  fake_.release(22);
+  EXPECT_EQ(wait_for_state(jobs, second, v1::JOB_STATE_SUCCEEDED).state(), v1::JOB_STATE_SUCCEEDED);
+  EXPECT_EQ(fake_.limit(21), 16u);
+  Upload asked = upload(23);
+  asked.spec.mutable_params()->set_threads(3);
+  jobs.submit(asked.spec, asked.data);
+  ASSERT_TRUE(fake_.wait_started(3));
+  EXPECT_EQ(fake_.threads(23), 3u);
+  EXPECT_EQ(fake_.limit(21), 13u);  // 16 cores over 2 jobs, less than job 23 can use
+  fake_.release();
+}
+
 TEST_F(JobManagerTest, AWatcherSeesEveryStepUntilTheJobEnds) {
   JobManager jobs(store_, {}, nullptr, fake_.runner());
   jobs.start();
