@@ -121,7 +121,9 @@ void setup_submit_command(CLI::App& app, const GlobalOptions& global, int* exit_
   cmd->add_option("--delta", o->delta, "surface sampling distance Δ (physical units)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--rho", o->rho, "radius-edge bound ρ̄")->check(CLI::PositiveNumber);
-  cmd->add_option("--threads", o->threads, "worker threads for this job (capped by the server)");
+  cmd->add_option("--threads", o->threads,
+                  "worker threads for this job, capped by the server (default: its share of the "
+                  "server's cores)");
   cmd->add_option("--extend-time", o->extend_time,
                   "repeat the first and last frames N times before meshing: the mesh spans N "
                   "more frames at each end")
