@@ -7,10 +7,7 @@
 // in the rules (the parallel phases; the pinch counts and the repair's insertions also use the
 // threads, the relabeling and extraction run on one), with the output's quality as a check.
 //
-// With `--regions on,off` each thread count runs with work regions (the default) and without
-// (new work stays with the worker that made it), interleaved too.
-//
-//   parallel_bench [--threads 1,2,4,8] [--repeat 3] [--delta 5] [--seed 1] [--regions on]
+//   parallel_bench [--threads 1,2,4,8] [--repeat 3] [--delta 5] [--seed 1]
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -50,7 +47,6 @@ int main(int argc, char** argv) {
   int repeat = 3;
   double delta = 5;
   std::uint64_t seed = refine::RefineParams{}.seed;
-  std::vector<bool> regions = {true};
   for (int i = 1; i + 1 < argc; i += 2) {
     if (std::strcmp(argv[i], "--threads") == 0) {
       threads.clear();
@@ -61,20 +57,10 @@ int main(int argc, char** argv) {
       repeat = std::max(1, std::atoi(argv[i + 1]));
     } else if (std::strcmp(argv[i], "--delta") == 0) {
       delta = std::atof(argv[i + 1]);
-    } else if (std::strcmp(argv[i], "--regions") == 0) {
-      regions.clear();
-      std::stringstream list(argv[i + 1]);
-      for (std::string item; std::getline(list, item, ',');) regions.push_back(item != "off");
     } else if (std::strcmp(argv[i], "--seed") == 0) {
       seed = std::strtoull(argv[i + 1], nullptr, 10);
     }
   }
-  // Every thread count with each regions setting: one row each.
-  std::vector<unsigned> thread_list;
-  std::vector<bool> region_list;
-  for (bool r : regions)
-    for (unsigned t : threads) thread_list.push_back(t), region_list.push_back(r);
-  threads = thread_list;
   auto image = domain::beating_ventricle_phantom();
   domain::validate_and_close(image);
   const domain::SurfaceOracle oracle(image);
@@ -86,10 +72,9 @@ int main(int argc, char** argv) {
       delta, repeat, static_cast<unsigned long long>(seed),
       static_cast<unsigned long long>(seed + static_cast<std::uint64_t>(repeat) - 1));
   std::printf(
-      "| threads | regions | pentatopes | time s | pentatopes/s | speedup | paired speedup | rules "
-      "s | "
+      "| threads | pentatopes | time s | pentatopes/s | speedup | paired speedup | rules s | "
       "rollbacks | contention s | idle s | insertions R1 / R2 / R3 / R4 / R5 | R5 removals | max ρ "
-      "| min τ | valid |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "| min τ | valid |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   // Interleaved: for each seed, every thread count in turn, so that a slower spell of a shared
   // machine (minutes long, ±15 %) weighs on every row alike rather than on the rows run in it.
   struct Series {
@@ -111,7 +96,6 @@ int main(int argc, char** argv) {
         refine::RefineParams params;
         params.delta = delta;
         params.threads = t;
-        params.work_regions = region_list[i];
         // One seed per repeat: a parallel mesh depends on timing, so only an average over seeds
         // compares it fairly with the sequential one (whose mesh a single seed fixes).
         params.seed = seed + static_cast<std::uint64_t>(k);
@@ -168,39 +152,37 @@ int main(int argc, char** argv) {
     const double time = median(s.seconds);
     if (reference == 0) reference = time;
     std::printf(
-        "| %u | %s | %.0f | %.2f | %.0f | %.2f | %.2f | %.2f | %.0f | %.2f | %.2f | %.0f / %.0f / "
-        "%.0f "
+        "| %u | %.0f | %.2f | %.0f | %.2f | %.2f | %.2f | %.0f | %.2f | %.2f | %.0f / %.0f / %.0f "
         "/ %.0f / %.0f | %.0f | %.2f | %.4f | %s |\n",
-        t, region_list[i] ? "on" : "off", median(s.pentatopes), time, median(s.pentatopes) / time,
-        reference / time, s.speedup.empty() ? 0.0 : median(s.speedup), median(s.rules),
-        median(s.rollbacks), median(s.contention), median(s.idle), median(s.insertions[0]),
-        median(s.insertions[1]), median(s.insertions[2]), median(s.insertions[3]),
-        median(s.insertions[4]), median(s.removals), *std::max_element(s.rho.begin(), s.rho.end()),
+        t, median(s.pentatopes), time, median(s.pentatopes) / time, reference / time,
+        s.speedup.empty() ? 0.0 : median(s.speedup), median(s.rules), median(s.rollbacks),
+        median(s.contention), median(s.idle), median(s.insertions[0]), median(s.insertions[1]),
+        median(s.insertions[2]), median(s.insertions[3]), median(s.insertions[4]),
+        median(s.removals), *std::max_element(s.rho.begin(), s.rho.end()),
         *std::min_element(s.tau.begin(), s.tau.end()), s.valid ? "yes" : "NO");
   }
   // Where the time goes: each stage's median wall-clock seconds (the rules' phases apart), and
   // the share of the run spent in stages that run on one thread (Amdahl's serial fraction).
-  std::printf("\nStages, median seconds\n| threads | regions |");
+  std::printf("\nStages, median seconds\n| threads |");
   for (int st = 0; st < refine::kStages; ++st)
     std::printf(" %s%s |", refine::stage_name(static_cast<refine::Stage>(st)),
                 refine::runs_on_threads(static_cast<refine::Stage>(st)) ? "" : " (1 thread)");
-  std::printf(" serial share |\n|---|---|");
+  std::printf(" serial share |\n|---|");
   for (int st = 0; st <= refine::kStages; ++st) std::printf("---|");
   std::printf("\n");
   for (std::size_t i = 0; i < threads.size(); ++i) {
     if (series[i].seconds.empty()) continue;
-    std::printf("| %u | %s |", threads[i], region_list[i] ? "on" : "off");
+    std::printf("| %u |", threads[i]);
     for (int st = 0; st < refine::kStages; ++st)
       std::printf(" %.3f |", median(series[i].stages[st]));
     std::printf(" %.1f %% |\n", 100 * median(series[i].serial));
   }
   // Each run's mesh (bench::mesh_fingerprint): with one thread, a seed fixes the mesh, so two
   // builds that refine alike print the same lines (scripts/mesh_hashes compares them).
-  std::printf(
-      "\nMesh fingerprints\n| threads | regions | seed | fingerprint |\n|---|---|---|---|\n");
+  std::printf("\nMesh fingerprints\n| threads | seed | fingerprint |\n|---|---|---|\n");
   for (std::size_t i = 0; i < threads.size(); ++i)
     for (std::size_t k = 0; k < series[i].fingerprints.size(); ++k)
-      std::printf("| %u | %s | %llu | %016llx |\n", threads[i], region_list[i] ? "on" : "off",
+      std::printf("| %u | %llu | %016llx |\n", threads[i],
                   static_cast<unsigned long long>(seed + k),
                   static_cast<unsigned long long>(series[i].fingerprints[k]));
 }

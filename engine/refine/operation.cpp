@@ -7,8 +7,6 @@
 #include <stdexcept>
 
 #include "delaunay/geometry.h"
-#include "refine/work_regions.h"
-#include "refine/worker.h"
 
 namespace mesh4d::refine {
 
@@ -35,20 +33,6 @@ void Operation::enqueue(Worker& w, CellId c) {
   if (!w.guard) {
     w.queues[rule].push_back(k);
     return;
-  }
-  // With work regions the candidate goes to the owner of its block, so that each worker's
-  // operations stay in its own part of space; a paused owner takes none (it holds no work).
-  if (w.regions) {
-    k.block = w.regions->block_of(state_.place_of(c));
-    Worker& owner = (*w.crew)[w.regions->owner(k.block)];
-    if (&owner != &w) {
-      std::lock_guard lock(owner.queue_mutex);
-      if (!owner.paused) {
-        owner.queues[rule].push_back(k);
-        owner.publish_length(rule);
-        return;
-      }
-    }
   }
   std::lock_guard lock(w.queue_mutex);
   w.queues[rule].push_back(k);

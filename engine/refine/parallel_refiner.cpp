@@ -22,7 +22,6 @@
 #include <exception>
 #include <thread>
 
-#include "refine/work_regions.h"
 #include "support/parallel_parts.h"
 
 namespace mesh4d::refine {
@@ -76,12 +75,8 @@ struct ParallelRefiner::Impl {
   // Takes the older half of another worker's queues (of one rule only, unless Rule::none).
   bool steal(Worker& w, Shared& shared, Rule only = Rule::none);
   bool queued_anywhere(const Shared& shared, Rule rule) const;  // in any worker's queues
-  static bool has_work(const Worker& w);                        // in its own queues
   bool higher_in_flight(const Shared& shared) const;  // an R1–R4 operation under way anywhere
   void distribute_work(unsigned threads);             // all queued work split among the workers
-  // The same with work regions: by blocks, the blocks' owners set.
-  void distribute_by_blocks(std::array<std::vector<Candidate>, kQueuedRules>& pool,
-                            unsigned threads);
   // Past the job's thread budget: waits, counted idle and holding no work, until the budget
   // takes it back or the phase ends.
   void pause(Worker& w, Shared& shared);
@@ -92,7 +87,6 @@ struct ParallelRefiner::Impl {
   ProgressMeter& meter_;
   const std::array<Rule, kQueuedRules> order_;
   std::vector<std::unique_ptr<Lane>> lanes_;  // by worker index
-  std::unique_ptr<WorkRegions> regions_;      // with RefineParams::work_regions
 };
 
 struct ParallelRefiner::Impl::Shared {
@@ -196,10 +190,6 @@ bool ParallelRefiner::Impl::steal(Worker& w, Shared& shared, Rule only) {
       }
     }
     if (total == 0) continue;
-    // The thief takes over the stolen work's blocks: the work they make comes to it too.
-    if (regions_)
-      for (const auto& part : taken)
-        for (const Candidate& k : part) regions_->set_owner(k.block, w.index);
     std::lock_guard lock(w.queue_mutex);
     for (int r = 0; r < kQueuedRules; ++r) {
       w.queues[r].append(taken[r].begin(), taken[r].end());
@@ -213,12 +203,6 @@ bool ParallelRefiner::Impl::steal(Worker& w, Shared& shared, Rule only) {
 bool ParallelRefiner::Impl::queued_anywhere(const Shared& shared, Rule rule) const {
   for (unsigned t = 0; t < shared.threads; ++t)
     if (workers_[t].queued[index_of(rule)].load(std::memory_order_relaxed) > 0) return true;
-  return false;
-}
-
-bool ParallelRefiner::Impl::has_work(const Worker& w) {
-  for (const auto& n : w.queued)
-    if (n.load(std::memory_order_relaxed) > 0) return true;
   return false;
 }
 
@@ -242,10 +226,6 @@ void ParallelRefiner::Impl::distribute_work(unsigned threads) {
       for (const auto& [k, r] : lanes_[t]->retry) pool[index_of(r)].push_back(k);
       lanes_[t]->retry.clear();
     }
-  }
-  if (regions_) {
-    distribute_by_blocks(pool, threads);
-    return;
   }
   for (int r = 0; r < kQueuedRules; ++r) {
     const std::size_t n = pool[r].size();
@@ -274,47 +254,14 @@ void ParallelRefiner::Impl::pause(Worker& w, Shared& shared) {
     for (const auto& [candidate, r] : lane.retry) keeper.queues[index_of(r)].push_back(candidate);
     lane.retry.clear();
     for (int r = 0; r < kQueuedRules; ++r) w.publish_length(r), keeper.publish_length(r);
-    w.paused = true;  // the work of its blocks now stays with whoever makes it
   }
   const auto t0 = Clock::now();
   if (shared.idle.fetch_add(1, std::memory_order_acq_rel) + 1 == shared.threads)
     shared.finished.store(true, std::memory_order_release);
   while (shared.running() && w.index >= working_threads(state_.params))
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  {
-    std::lock_guard lock(w.queue_mutex);
-    w.paused = false;
-  }
   shared.idle.fetch_sub(1, std::memory_order_acq_rel);
   w.idle_ns.fetch_add(nanoseconds_since(t0), std::memory_order_relaxed);
-}
-
-void ParallelRefiner::Impl::distribute_by_blocks(
-    std::array<std::vector<Candidate>, kQueuedRules>& pool, unsigned threads) {
-  // Each worker a range of blocks in Morton order (a compact piece of space) holding an equal
-  // share of the queued work, and that work; blocks without work go with the range they lie in.
-  std::vector<std::uint32_t> count(WorkRegions::kBlocks, 0);
-  std::size_t total = 0;
-  for (auto& candidates : pool) {
-    std::erase_if(candidates, [&](const Candidate& k) { return !state_.still_valid(k); });
-    for (Candidate& k : candidates) {
-      k.block = regions_->block_of(state_.place_of(k.cell));
-      ++count[k.block];
-    }
-    total += candidates.size();
-  }
-  std::size_t before = 0;
-  for (std::uint32_t b = 0; b < WorkRegions::kBlocks; ++b) {
-    const std::size_t middle = before + count[b] / 2;
-    regions_->set_owner(b, static_cast<unsigned>(std::min<std::size_t>(
-                               middle * threads / std::max<std::size_t>(total, 1), threads - 1)));
-    before += count[b];
-  }
-  for (int r = 0; r < kQueuedRules; ++r) {
-    for (unsigned t = 0; t < threads; ++t) workers_[t].queues[r].clear();
-    for (const Candidate& k : pool[r]) workers_[regions_->owner(k.block)].queues[r].push_back(k);
-    for (unsigned t = 0; t < threads; ++t) workers_[t].publish_length(r);
-  }
 }
 
 void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) {
@@ -376,8 +323,7 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
         bool counted = false;
         while (shared.running()) {
           if (counted) shared.idle.fetch_sub(1, std::memory_order_acq_rel), counted = false;
-          // With work regions, others queue the work of its blocks with it.
-          if (has_work(w) || steal(w, shared)) break;
+          if (steal(w, shared)) break;
           counted = true;
           if (shared.idle.fetch_add(1, std::memory_order_acq_rel) + 1 == shared.threads) {
             shared.finished.store(true, std::memory_order_release);
@@ -458,12 +404,6 @@ void ParallelRefiner::Impl::enter_parallel(unsigned threads) {
     Lane& lane = *lanes_[t];
     w.ws = &w.own_ws;
     w.guard = &w.locks;
-    if (state_.params.work_regions && threads > 1) {
-      if (!regions_) regions_ = std::make_unique<WorkRegions>(state_.box, threads);
-      w.regions = regions_.get();
-      w.crew = &workers_;
-    }
-    w.paused = false;
     lane.consecutive_rollbacks = 0;
     lane.higher_in_flight.store(false, std::memory_order_relaxed);  // (a phase that failed)
   }
@@ -477,8 +417,6 @@ void ParallelRefiner::Impl::leave_parallel(unsigned threads) {
     w.live_cells.store(0, std::memory_order_relaxed);
     w.guard = nullptr;
     w.ws = nullptr;
-    w.regions = nullptr;
-    w.crew = nullptr;
   }
   workers_[0].ws = &state_.tri.workspace();
 }

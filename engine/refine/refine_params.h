@@ -32,10 +32,6 @@ struct RefineParams {
   double junction_spacing = 0;
   // Worker threads sharing the triangulation (parallel_refiner.cpp); 1: the sequential path.
   unsigned threads = 1;
-  // Whether each worker owns blocks of space and gets the new work queued in them
-  // (work_regions.h); false: new work stays with the worker that made it (parallel_bench
-  // compares the two).
-  bool work_regions = true;
   // How many of them may work at once, changed while the job runs; null: all of them.
   std::shared_ptr<const ThreadBudget> thread_budget;
   // Periodic time (domain/periodic_time.h): the oracle's image is the cycle tiled three times,

@@ -53,12 +53,10 @@ struct alignas(64) CellInfo {
 };
 static_assert(sizeof(CellInfo) == 64, "one cache line per pentatope's info");
 
-// A queued pentatope: its slot and its vertices, which tell a reused slot from the original;
-// in a parallel phase, the block of space it was queued in (work_regions.h).
+// A queued pentatope: its slot and its vertices, which tell a reused slot from the original.
 struct Candidate {
   delaunay::CellId cell;
   mesh4d::VertexId v[5];
-  std::uint32_t block = 0;
 };
 
 class RefinementState final : public delaunay::ConflictFilter {
@@ -107,10 +105,6 @@ class RefinementState final : public delaunay::ConflictFilter {
     return s;
   }
   Point4 centroid_of(delaunay::CellId c) const;
-  /// Where a pentatope lies, for the work regions: its circumcenter, or its centroid when flat.
-  Point4 place_of(delaunay::CellId c) const {
-    return info[c].finite ? info[c].center : centroid_of(c);
-  }
   Point4 clamp_to_box(const Point4& p) const;
   bool still_valid(const Candidate& k) const { return tri.store().still_holds(k.cell, k.v); }
   /// Whether a feature vertex lies within r of p (the index is shared by the workers). With

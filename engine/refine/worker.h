@@ -20,9 +20,6 @@
 
 namespace mesh4d::refine {
 
-class WorkRegions;
-class Workers;
-
 // The id a trial point's cavity is computed with in a parallel phase, where the next id is not
 // known: the newest of all, as the point would be in a sequential run.
 inline constexpr mesh4d::VertexId kProvisionalId = delaunay::kNoVertex - 1;
@@ -42,13 +39,9 @@ struct Worker {
   delaunay::Triangulation::Workspace* ws = nullptr;  // own_ws, or the triangulation's
   delaunay::VertexLocks locks;
   delaunay::CellGuard* guard = nullptr;  // &locks in a parallel phase
-  // In a parallel phase with work regions: who gets the new candidates of each block.
-  const WorkRegions* regions = nullptr;
-  Workers* crew = nullptr;
-  bool paused = false;     // past the job's thread budget; under queue_mutex: takes no new work
-  bool conflict = false;   // the current operation met another thread's lock
-  std::mt19937_64 rng;     // of the picking regions
-  delaunay::Cavity trial;  // trial cavities of the picking regions
+  bool conflict = false;                 // the current operation met another thread's lock
+  std::mt19937_64 rng;                   // of the picking regions
+  delaunay::Cavity trial;                // trial cavities of the picking regions
   std::vector<delaunay::CellId> fresh, created, star;
   std::vector<mesh4d::VertexId> near;     // the free vertices an R5 operation removes
   std::vector<mesh4d::VertexId> removed;  // those of near it did remove

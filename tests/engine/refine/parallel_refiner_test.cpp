@@ -97,28 +97,6 @@ TEST_P(ParallelRefiner, EveryPhantomPassesTheSequentialChecks) {
 
 INSTANTIATE_TEST_SUITE_P(Threads, ParallelRefiner, ::testing::Values(1u, 2u, 4u, 8u));
 
-// Without work regions new work stays with the worker that made it (parallel_bench compares the
-// two): the same checks on the ventricle.
-TEST(ParallelRefinerWithoutRegions, TheVentriclePassesTheSequentialChecks) {
-  const PhantomCase c = phantoms().back();
-  const domain::SurfaceOracle oracle(c.image);
-  RefineParams params;
-  params.delta = c.delta;
-  params.threads = 4;
-  params.work_regions = false;
-  Refiner refiner(oracle, params);
-  const RefineResult r = refiner.run();
-  const auto check = delaunay::check_triangulation(refiner.triangulation());
-  ASSERT_TRUE(check.ok) << check.error;
-  EXPECT_LT(r.stats.radius_edge_ratio.max, params.radius_edge_bound);
-  EXPECT_GE(r.stats.normalized_volume.min, params.sliver_bound);
-  expect_only_manifold_warning(r);
-  expect_fidelity(r.mesh, oracle, c.labels, c.distance_bound * params.delta);
-  std::size_t components = 0;
-  EXPECT_EQ(unmeshed_components(c.image, r.mesh, &components), 0u);
-  EXPECT_EQ(components, c.components);
-}
-
 // Asks the refinement to stop once the watchdog has fired.
 class Watchdog final : public ProgressSink {
  public:
