@@ -3,15 +3,21 @@
 // the same run: ITK's Signed Maurer distance map (distances only, the paper's choice) and, on
 // the smaller image, ITK's Danielsson map (distances and closest-voxel vectors).
 //
-//   oracle_bench [--skip-large]
+// Then the set-up on the job's threads against one thread, in the same run.
+//
+//   oracle_bench [--skip-large] [--threads 1,2]
 #include <itkDanielssonDistanceMapImageFilter.h>
 #include <itkImage.h>
 #include <itkSignedMaurerDistanceMapImageFilter.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <random>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "domain/feature_transform.h"
 #include "domain/phantoms.h"
@@ -107,10 +113,37 @@ void run(const char* name, const LabelImage4& image, bool with_danielsson) {
   g_sink = sink;
 }
 
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+// The oracle's set-up on the job's threads: the feature transform alone and the whole
+// constructor, medians of 3 runs, the thread counts interleaved.
+void threads_table(const char* name, const LabelImage4& image,
+                   const std::vector<unsigned>& threads) {
+  std::vector<std::vector<double>> transform(threads.size()), oracle(threads.size());
+  for (int r = 0; r < 3; ++r)
+    for (std::size_t i = 0; i < threads.size(); ++i) {
+      auto t0 = Clock::now();
+      g_sink = double(feature_transform(image, threads[i])[0]);
+      transform[i].push_back(seconds_since(t0));
+      t0 = Clock::now();
+      const SurfaceOracle o(image, {}, threads[i]);
+      oracle[i].push_back(seconds_since(t0));
+    }
+  for (std::size_t i = 0; i < threads.size(); ++i)
+    std::printf("| %s | %u | %.3f | %.2fx | %.3f | %.2fx |\n", name, threads[i],
+                median(transform[i]), median(transform[0]) / median(transform[i]),
+                median(oracle[i]), median(oracle[0]) / median(oracle[i]));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  const bool skip_large = argc > 1 && std::strcmp(argv[1], "--skip-large") == 0;
+  bool skip_large = false;
+  for (int i = 1; i < argc; ++i)
+    skip_large = skip_large || std::strcmp(argv[i], "--skip-large") == 0;
   std::printf("Surface oracle on the beating-ventricle phantom, one thread\n");
   std::printf(
       "| image | voxels | mesh4d feature transform s | ITK Maurer (distances only) s | "
@@ -121,5 +154,19 @@ int main(int argc, char** argv) {
   if (!skip_large)
     run("200x200x100x30", beating_ventricle_phantom({200, 200, 100, 30}, {0.885, 0.885, 2.64, 0.5}),
         false);
+  // --threads 1,2,4: the set-up on several threads against one, measured in the same run.
+  std::vector<unsigned> threads = {1, 2};
+  for (int i = 1; i + 1 < argc; ++i)
+    if (std::strcmp(argv[i], "--threads") == 0) {
+      threads.clear();
+      std::stringstream list(argv[i + 1]);
+      for (std::string item; std::getline(list, item, ',');)
+        threads.push_back(static_cast<unsigned>(std::stoul(item)));
+    }
+  std::printf(
+      "\nThe set-up on threads (medians of 3, interleaved)\n| image | threads | feature transform "
+      "s | speedup | whole oracle s | speedup |\n|---|---|---|---|---|---|\n");
+  threads_table("100x100x44x15", beating_ventricle_phantom({100, 100, 44, 15}, {1.77, 1.77, 6, 1}),
+                threads);
   return 0;
 }

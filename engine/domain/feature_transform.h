@@ -24,7 +24,8 @@ inline constexpr std::uint32_t kNoFeature = 0xFFFFFFFFu;
 bool is_surface_voxel(const LabelImage4& image, std::size_t i);
 
 /// For every voxel, the linear index of the nearest surface voxel (kNoFeature when the image has
-/// none, that is, a single label everywhere).
-std::vector<std::uint32_t> feature_transform(const LabelImage4& image);
+/// none, that is, a single label everywhere); on up to `threads` threads, the lines of each
+/// axis pass split among them (the same result with any number).
+std::vector<std::uint32_t> feature_transform(const LabelImage4& image, unsigned threads = 1);
 
 }  // namespace mesh4d::domain

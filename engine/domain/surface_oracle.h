@@ -47,7 +47,8 @@ class SurfaceOracle {
   /// transform. Throws ImageError when the image has a single label (no surface). With time
   /// caps (time_caps.h), a ghost label takes its real label's offset β and has no rank of its
   /// own, so that the two tie exactly on the cap's hyperplane, where they weigh alike.
-  explicit SurfaceOracle(const LabelImage4& image, const TimeCaps& caps = {});
+  /// The feature transform runs on up to `threads` threads.
+  explicit SurfaceOracle(const LabelImage4& image, const TimeCaps& caps = {}, unsigned threads = 1);
 
   const LabelImage4& image() const { return image_; }
 

@@ -23,7 +23,7 @@ RefineResult refine_periodic(const domain::LabelImage4& cycle, const RefineParam
   std::vector<std::string> closing = domain::validate_and_close(covering);
   domain::drop_time_padding_warnings(closing);
   warnings->insert(warnings->end(), closing.begin(), closing.end());
-  const domain::SurfaceOracle oracle(covering);
+  const domain::SurfaceOracle oracle(covering, {}, working_threads(params));
   RefineParams periodic = params;
   periodic.period_start = period.start;
   periodic.period = period.length;

@@ -14,7 +14,7 @@ RefineResult refine_with_time_caps(const domain::LabelImage4& image, const Refin
       image, domain::cap_frames(params.delta, image.spacing()[3]), &caps, &caps_warning);
   for (std::string& w : domain::validate_and_close(capped)) warnings->push_back(std::move(w));
   if (!caps_warning.empty()) warnings->push_back(caps_warning);
-  const domain::SurfaceOracle oracle(capped, caps);
+  const domain::SurfaceOracle oracle(capped, caps, working_threads(params));
   RefineResult result = refine(oracle, params, sink);
   drop_ghosts(result, caps, working_threads(params));
   return result;

@@ -56,6 +56,25 @@ TEST(FeatureTransform, EveryVoxelGetsANearestSurfaceVoxelExactly) {
   }
 }
 
+// On several threads (each a range of lines in each axis pass): the same transform. The image
+// is large enough to be split (at least 2^18 voxels a share).
+TEST(FeatureTransform, ThreadsGiveTheSameTransform) {
+  const LabelImage4 image = random_label_image({64, 50, 30, 10}, {1.0, 1.7, 0.6, 2.3}, 4);
+  const auto one = feature_transform(image, 1);
+  for (unsigned threads : {2u, 3u}) EXPECT_EQ(feature_transform(image, threads), one) << threads;
+  // Spot checks against brute force: the single-threaded transform is exact (above).
+  std::vector<std::size_t> surface;
+  for (std::size_t i = 0; i < image.voxel_count(); ++i)
+    if (is_surface_voxel(image, i)) surface.push_back(i);
+  std::mt19937_64 rng(5);
+  for (int k = 0; k < 200; ++k) {
+    const std::size_t i = rng() % image.voxel_count();
+    double best = INFINITY;
+    for (std::size_t s : surface) best = std::min(best, center_distance(image, i, s));
+    ASSERT_NEAR(center_distance(image, i, one[i]), best, 1e-9) << "voxel " << i;
+  }
+}
+
 TEST(FeatureTransform, SingleLabelImageHasNoFeature) {
   LabelImage4 image({4, 4, 4, 4}, {1, 1, 1, 1});
   for (std::size_t i = 0; i < image.voxel_count(); ++i) image.set(i, 3);
