@@ -67,7 +67,8 @@ JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& pa
   out.stats = result.stats;
   out.relabeled = result.relabeled;
   out.warnings.insert(out.warnings.end(), result.warnings.begin(), result.warnings.end());
-  out.certificate = refine::certify(result.mesh, image);  // a periodic mesh: against the cycle
+  // A periodic mesh: against the cycle. On the job's threads, as many as work now.
+  out.certificate = refine::certify(result.mesh, image, refine::working_threads(params));
   for (const std::string& defect : out.certificate.defects())
     out.warnings.push_back("fidelity certificate: " + defect);
   return out;

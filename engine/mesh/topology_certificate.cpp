@@ -8,6 +8,8 @@
 
 #include "mesh/link_topology.h"
 #include "mesh/periodic_mesh.h"
+#include "support/parallel_parts.h"
+#include "support/parallel_sort.h"
 #include "support/union_find.h"
 
 namespace mesh4d::mesh {
@@ -67,7 +69,7 @@ bool TopologyCertificate::manifold() const {
   return true;
 }
 
-TopologyCertificate certify_topology(const Mesh4& unglued) {
+TopologyCertificate certify_topology(const Mesh4& unglued, unsigned threads) {
   // In periodic time the combinatorics are the glued cycle's; the volumes, the positions'.
   const Mesh4 glued_cycle = unglued.periodic() ? glued(unglued) : Mesh4{};
   const Mesh4& mesh = unglued.periodic() ? glued_cycle : unglued;
@@ -82,16 +84,20 @@ TopologyCertificate certify_topology(const Mesh4& unglued) {
 
   // Facets: pentatopes of one label that share one are one piece; a facet that no other
   // pentatope of the label shares bounds the label's region.
-  std::vector<std::pair<std::array<Id, 4>, Id>> facets;
-  facets.reserve(5 * n);
-  for (std::size_t p = 0; p < n; ++p)
-    for (int skip = 0; skip < 5; ++skip) {
-      std::array<Id, 4> f;
-      for (int k = 0, m = 0; k < 5; ++k)
-        if (k != skip) f[m++] = mesh.pentatopes[p][k];
-      facets.push_back({sorted(f), static_cast<Id>(p)});
-    }
-  std::sort(facets.begin(), facets.end());
+  std::vector<std::pair<std::array<Id, 4>, Id>> facets(5 * n);
+  const unsigned parts = static_cast<unsigned>(
+      std::clamp<std::size_t>(n / support::kMinSortShare, 1, std::max(threads, 1u)));
+  support::run_parts(parts, [&](unsigned part) {
+    const auto [begin, end] = support::part_range(n, part, parts);
+    for (std::size_t p = begin; p < end; ++p)
+      for (int skip = 0; skip < 5; ++skip) {
+        std::array<Id, 4> f;
+        for (int k = 0, m = 0; k < 5; ++k)
+          if (k != skip) f[m++] = mesh.pentatopes[p][k];
+        facets[5 * p + static_cast<std::size_t>(skip)] = {sorted(f), static_cast<Id>(p)};
+      }
+  });
+  support::parallel_sort(facets, threads);
   UnionFind pieces(n);
   std::vector<BoundaryFacet> boundary;
   for (std::size_t i = 0; i < facets.size();) {
@@ -157,23 +163,34 @@ TopologyCertificate certify_topology(const Mesh4& unglued) {
       vertex_links.emplace_back(f.label, f.v[skip], t);
     }
   }
-  std::sort(vertex_links.begin(), vertex_links.end());
-  std::vector<std::pair<Label, Id>> failed;  // (label, vertex), sorted
-  std::vector<std::array<Id, 3>> sphere;
-  for (std::size_t i = 0; i < vertex_links.size();) {
-    std::size_t j = i;
-    sphere.clear();
-    for (;
-         j < vertex_links.size() && std::get<0>(vertex_links[j]) == std::get<0>(vertex_links[i]) &&
-         std::get<1>(vertex_links[j]) == std::get<1>(vertex_links[i]);
-         ++j)
-      sphere.push_back(std::get<2>(vertex_links[j]));
-    if (!link_is_sphere(sphere)) {
-      ++by_label[std::get<0>(vertex_links[i])].non_manifold_vertices;
-      failed.push_back({std::get<0>(vertex_links[i]), std::get<1>(vertex_links[i])});
+  support::parallel_sort(vertex_links, threads);
+  // Each (label, vertex)'s run of link triangles, then the runs' links checked on the threads.
+  std::vector<std::size_t> runs;
+  for (std::size_t i = 0; i < vertex_links.size(); ++i)
+    if (i == 0 || std::get<0>(vertex_links[i]) != std::get<0>(vertex_links[i - 1]) ||
+        std::get<1>(vertex_links[i]) != std::get<1>(vertex_links[i - 1]))
+      runs.push_back(i);
+  runs.push_back(vertex_links.size());
+  std::vector<std::uint8_t> sphere_link(runs.size() - 1, 1);
+  const unsigned link_parts =
+      static_cast<unsigned>(std::clamp<std::size_t>(runs.size() / 1024, 1, std::max(threads, 1u)));
+  support::run_parts(link_parts, [&](unsigned part) {
+    std::vector<std::array<Id, 3>> sphere;
+    const auto [begin, end] = support::part_range(runs.size() - 1, part, link_parts);
+    for (std::size_t r = begin; r < end; ++r) {
+      sphere.clear();
+      for (std::size_t k = runs[r]; k < runs[r + 1]; ++k)
+        sphere.push_back(std::get<2>(vertex_links[k]));
+      sphere_link[r] = link_is_sphere(sphere);
     }
-    i = j;
-  }
+  });
+  std::vector<std::pair<Label, Id>> failed;  // (label, vertex), sorted
+  for (std::size_t r = 0; r + 1 < runs.size(); ++r)
+    if (!sphere_link[r]) {
+      const Label label = std::get<0>(vertex_links[runs[r]]);
+      ++by_label[label].non_manifold_vertices;
+      failed.push_back({label, std::get<1>(vertex_links[runs[r]])});
+    }
   vertex_links = {};
   const auto fails = [&](Label label, Id v) {
     return std::binary_search(failed.begin(), failed.end(), std::pair<Label, Id>{label, v});
@@ -202,14 +219,14 @@ TopologyCertificate certify_topology(const Mesh4& unglued) {
         edge_links.emplace_back(f.label, std::array<Id, 2>{f.v[a], f.v[b]}, rest);
       }
   }
-  std::sort(triangles.begin(), triangles.end());
+  support::parallel_sort(triangles, threads);
   for (std::size_t i = 0; i < triangles.size();) {
     std::size_t j = i;
     while (j < triangles.size() && triangles[j] == triangles[i]) ++j;
     if (j - i != 2) ++by_label[static_cast<Label>(triangles[i][0])].non_manifold_triangles;
     i = j;
   }
-  std::sort(edge_links.begin(), edge_links.end());
+  support::parallel_sort(edge_links, threads);
   std::vector<std::array<Id, 2>> circle;
   for (std::size_t i = 0; i < edge_links.size();) {
     std::size_t j = i;
@@ -227,8 +244,8 @@ TopologyCertificate certify_topology(const Mesh4& unglued) {
   listed.reserve(mesh.boundary.size());
   for (const BoundaryTetrahedron& b : mesh.boundary)
     listed.push_back({b.inner, sorted(b.vertices)});
-  std::sort(listed.begin(), listed.end());
-  std::sort(boundary.begin(), boundary.end());
+  support::parallel_sort(listed, threads);
+  support::parallel_sort(boundary, threads);
   std::vector<BoundaryFacet> differ;
   std::set_symmetric_difference(boundary.begin(), boundary.end(), listed.begin(), listed.end(),
                                 std::back_inserter(differ));

@@ -39,7 +39,8 @@ struct TopologyCertificate {
 };
 
 /// Certifies `mesh` (any number of pentatopes; no check of geometry beyond the volumes); a mesh
-/// in periodic time as the glued cycle (periodic_mesh.h).
-TopologyCertificate certify_topology(const Mesh4& mesh);
+/// in periodic time as the glued cycle (periodic_mesh.h). Its sorts and link checks run on up to
+/// `threads` threads (the same certificate with any number).
+TopologyCertificate certify_topology(const Mesh4& mesh, unsigned threads = 1);
 
 }  // namespace mesh4d::mesh

@@ -32,9 +32,10 @@ std::vector<std::string> FidelityCertificate::defects() const {
   return out;
 }
 
-FidelityCertificate certify(const mesh::Mesh4& mesh, const domain::LabelImage4& image) {
+FidelityCertificate certify(const mesh::Mesh4& mesh, const domain::LabelImage4& image,
+                            unsigned threads) {
   std::map<domain::Label, LabelFidelity> by_label;
-  for (const mesh::LabelTopology& t : mesh::certify_topology(mesh).labels) {
+  for (const mesh::LabelTopology& t : mesh::certify_topology(mesh, threads).labels) {
     LabelFidelity& l = by_label[t.label];
     l.label = t.label;
     l.mesh_pieces = t.components;
@@ -71,7 +72,7 @@ FidelityCertificate certify(const mesh::Mesh4& mesh, const domain::LabelImage4& 
         l.worst_frame_error = error, l.worst_frame_time = t;
     }
   }
-  for (const TwoSidedDistance& d : two_sided_distances(mesh, image)) {
+  for (const TwoSidedDistance& d : two_sided_distances(mesh, image, 1000, threads)) {
     LabelFidelity& l = by_label[d.label];
     l.label = d.label;
     l.distance_samples = std::max(d.mesh_to_image.samples, d.image_to_mesh.samples);

@@ -43,7 +43,9 @@ struct FidelityCertificate {
 };
 
 /// `image` is the one meshed (closed, and extended in time where the job asked); for a mesh in
-/// periodic time, the cycle (not closed), its last frame next to its first.
-FidelityCertificate certify(const mesh::Mesh4& mesh, const domain::LabelImage4& image);
+/// periodic time, the cycle (not closed), its last frame next to its first. On up to `threads`
+/// threads (the same certificate with any number).
+FidelityCertificate certify(const mesh::Mesh4& mesh, const domain::LabelImage4& image,
+                            unsigned threads = 1);
 
 }  // namespace mesh4d::refine

@@ -11,6 +11,8 @@
 
 #include "domain/periodic_time.h"
 #include "mesh/periodic_mesh.h"
+#include "support/parallel_parts.h"
+#include "support/parallel_sort.h"
 
 namespace mesh4d::refine {
 namespace {
@@ -123,7 +125,7 @@ double distance_to_label_faces(const Point4& p, const domain::LabelImage4& image
 // searched ring by ring around a point.
 class TetrahedronGrid {
  public:
-  explicit TetrahedronGrid(const mesh::Mesh4& mesh) : mesh_(mesh) {
+  TetrahedronGrid(const mesh::Mesh4& mesh, unsigned threads) : mesh_(mesh) {
     if (mesh.boundary.empty()) return;
     // Cells as large as a tetrahedron's mean extent along each axis (space and time differ):
     // each tetrahedron lies in a few cells and each cell holds a few tetrahedra.
@@ -147,7 +149,7 @@ class TetrahedronGrid {
       for (int a = 0; a < 4; ++a)
         low_[a] = std::min(low_[a], lo[a]), high_[a] = std::max(high_[a], hi[a]);
     }
-    std::sort(cells_.begin(), cells_.end());
+    support::parallel_sort(cells_, threads);
     for (std::size_t i = 0; i < cells_.size();) {
       std::size_t j = i;
       while (j < cells_.size() && cells_[j].first == cells_[i].first) ++j;
@@ -254,13 +256,13 @@ std::vector<TwoSidedDistance> measure(const mesh::Mesh4& sampled, const mesh::Me
                                       const domain::LabelImage4& image, std::size_t first_frame,
                                       std::size_t frames,
                                       const std::function<Point4(Point4)>& place,
-                                      std::size_t max_samples) {
-  std::map<domain::Label, TwoSidedDistance> by_label;
+                                      std::size_t max_samples, unsigned threads) {
   const auto& d = image.dims();
   const std::size_t frame_voxels = d[0] * d[1] * d[2];
+  constexpr std::size_t kLabels = std::size_t{std::numeric_limits<domain::Label>::max()} + 1;
   // Faces between a voxel and its +1 neighbour along each axis, counted per label (twice over
-  // the image: the first pass sets each label's stride, the second samples).
-  std::map<domain::Label, std::size_t> faces, seen;
+  // the image: the first pass sets each label's stride, the second picks the samples).
+  std::vector<std::size_t> faces(kLabels, 0), seen(kLabels, 0);
   const auto each_face = [&](auto on_face) {
     const std::array<std::size_t, 4> stride{1, d[0], d[0] * d[1], d[0] * d[1] * d[2]};
     std::array<std::size_t, 4> v{0, 0, 0, first_frame};
@@ -276,37 +278,56 @@ std::vector<TwoSidedDistance> measure(const mesh::Mesh4& sampled, const mesh::Me
     }
   };
   each_face([&](const auto&, int, domain::Label here, domain::Label there) {
-    if (here) ++faces[here];
-    if (there) ++faces[there];
+    ++faces[here];
+    ++faces[there];
   });
-  std::map<domain::Label, std::size_t> tetrahedra, taken;
+  std::vector<std::size_t> tetrahedra(kLabels, 0), taken(kLabels, 0);
   for (const auto& b : sampled.boundary)
-    for (domain::Label l : {b.inner, b.outer})
-      if (l) ++tetrahedra[l];
-  const TetrahedronGrid grid(searched);
+    for (domain::Label l : {b.inner, b.outer}) ++tetrahedra[l];
+  // The samples, picked in order on one thread; their distances, on the threads.
+  struct Sample {
+    domain::Label label;
+    bool from_image;  // a face centre (image → mesh), or a tetrahedron's centroid
+    Point4 point;
+    double distance = 0;
+  };
+  std::vector<Sample> samples;
   each_face(
       [&](const std::array<std::size_t, 4>& v, int a, domain::Label here, domain::Label there) {
         for (domain::Label l : {here, there}) {
           if (!l || seen[l]++ % std::max<std::size_t>(1, faces[l] / max_samples) != 0) continue;
           Point4 centre = image.voxel_center(v[0], v[1], v[2], v[3]);
           centre[a] += 0.5 * image.spacing()[a];
-          TwoSidedDistance& entry = by_label[l];
-          entry.label = l;
-          if (tetrahedra.count(l)) add(entry.image_to_mesh, grid.nearest(centre, l));
+          samples.push_back({l, true, centre});
         }
       });
-
   for (const auto& b : sampled.boundary)
     for (domain::Label l : {b.inner, b.outer}) {
       if (!l || taken[l]++ % std::max<std::size_t>(1, tetrahedra[l] / max_samples) != 0) continue;
       Point4 centroid{};
       for (auto v : b.vertices)
         for (int k = 0; k < 4; ++k) centroid[k] += 0.25 * sampled.vertices[v][k];
-      TwoSidedDistance& entry = by_label[l];
-      entry.label = l;
-      add(entry.mesh_to_image, distance_to_label_faces(place(centroid), image, l));
+      samples.push_back({l, false, place(centroid)});
     }
-
+  const TetrahedronGrid grid(searched, threads);
+  const unsigned parts =
+      static_cast<unsigned>(std::clamp<std::size_t>(samples.size() / 64, 1, std::max(threads, 1u)));
+  support::run_parts(parts, [&](unsigned part) {
+    const auto [begin, end] = support::part_range(samples.size(), part, parts);
+    for (std::size_t i = begin; i < end; ++i) {
+      Sample& s = samples[i];
+      if (s.from_image)
+        s.distance = tetrahedra[s.label] ? grid.nearest(s.point, s.label) : kInfinity;
+      else
+        s.distance = distance_to_label_faces(s.point, image, s.label);
+    }
+  });
+  std::map<domain::Label, TwoSidedDistance> by_label;
+  for (const Sample& s : samples) {
+    TwoSidedDistance& entry = by_label[s.label];
+    entry.label = s.label;
+    add(s.from_image ? entry.image_to_mesh : entry.mesh_to_image, s.distance);
+  }
   std::vector<TwoSidedDistance> out;
   for (auto& [label, entry] : by_label) {
     for (SidedDistance* s : {&entry.mesh_to_image, &entry.image_to_mesh})
@@ -320,10 +341,10 @@ std::vector<TwoSidedDistance> measure(const mesh::Mesh4& sampled, const mesh::Me
 
 std::vector<TwoSidedDistance> two_sided_distances(const mesh::Mesh4& mesh,
                                                   const domain::LabelImage4& image,
-                                                  std::size_t max_samples) {
+                                                  std::size_t max_samples, unsigned threads) {
   if (!mesh.periodic())
     return measure(
-        mesh, mesh, image, 0, image.dims()[3], [](Point4 p) { return p; }, max_samples);
+        mesh, mesh, image, 0, image.dims()[3], [](Point4 p) { return p; }, max_samples, threads);
   // The cycle tiled: its middle copy's faces, those across its last frame into the next copy's
   // first included, to the unrolled mesh; the mesh's samples at their place in the period.
   const domain::LabelImage4 tiled = domain::tile_cycle(image);
@@ -333,7 +354,7 @@ std::vector<TwoSidedDistance> two_sided_distances(const mesh::Mesh4& mesh,
         p[3] = mesh::wrapped_time(mesh, p[3]);
         return p;
       },
-      max_samples);
+      max_samples, threads);
 }
 
 }  // namespace mesh4d::refine

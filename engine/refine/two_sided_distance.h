@@ -26,9 +26,11 @@ struct TwoSidedDistance {
 /// One entry per label of the image or the mesh boundary (ascending), each side sampled at most
 /// `max_samples` times, evenly over its tetrahedra or faces. A side with nothing to measure
 /// against (a label that the mesh lacks, say) keeps its samples at 0. For a mesh in periodic time
-/// `image` is the cycle (not closed), its last frame next to its first.
+/// `image` is the cycle (not closed), its last frame next to its first. The samples' distances
+/// are taken on up to `threads` threads (the same figures with any number).
 std::vector<TwoSidedDistance> two_sided_distances(const mesh::Mesh4& mesh,
                                                   const domain::LabelImage4& image,
-                                                  std::size_t max_samples = 1000);
+                                                  std::size_t max_samples = 1000,
+                                                  unsigned threads = 1);
 
 }  // namespace mesh4d::refine

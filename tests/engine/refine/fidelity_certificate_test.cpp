@@ -41,6 +41,45 @@ TEST(FidelityCertificate, TheHypersphereIsOneManifoldPieceOfAboutItsVoxelsVolume
   EXPECT_NE(l.worst_frame_error, 0.0) << "the frames were compared";
 }
 
+void expect_same(const FidelityCertificate& a, const FidelityCertificate& b) {
+  ASSERT_EQ(a.labels.size(), b.labels.size());
+  for (std::size_t i = 0; i < a.labels.size(); ++i) {
+    const LabelFidelity &x = a.labels[i], &y = b.labels[i];
+    SCOPED_TRACE("label " + std::to_string(x.label));
+    EXPECT_EQ(x.label, y.label);
+    EXPECT_EQ(x.mesh_pieces, y.mesh_pieces);
+    EXPECT_EQ(x.touching_pieces, y.touching_pieces);
+    EXPECT_EQ(x.image_pieces, y.image_pieces);
+    EXPECT_EQ(x.non_manifold_vertices, y.non_manifold_vertices);
+    EXPECT_EQ(x.non_manifold_edges, y.non_manifold_edges);
+    EXPECT_EQ(x.non_manifold_triangles, y.non_manifold_triangles);
+    EXPECT_EQ(x.boundary_list_mismatches, y.boundary_list_mismatches);
+    EXPECT_EQ(x.volume, y.volume);
+    EXPECT_EQ(x.worst_frame_error, y.worst_frame_error);
+    EXPECT_EQ(x.distance_samples, y.distance_samples);
+    EXPECT_EQ(x.mesh_to_image_max, y.mesh_to_image_max);
+    EXPECT_EQ(x.mesh_to_image_mean, y.mesh_to_image_mean);
+    EXPECT_EQ(x.image_to_mesh_max, y.image_to_mesh_max);
+    EXPECT_EQ(x.image_to_mesh_mean, y.image_to_mesh_mean);
+  }
+}
+
+// On the job's threads (sorts split and merged, link checks and distances shared out): the
+// same certificate, to the last bit. The hypersphere's mesh is large enough to be split; the
+// coarse ventricle's has non-manifold boundary simplices to count.
+TEST(FidelityCertificate, ThreadsGiveTheSameCertificate) {
+  const Meshed sphere = meshed(domain::hypersphere_phantom({24, 24, 24, 24}, {1, 1, 1, 1}, 9), 2);
+  const Meshed ventricle =
+      meshed(domain::beating_ventricle_phantom({40, 40, 16, 6}, {4.4, 4.4, 16, 3}), 8);
+  for (const Meshed* m : {&sphere, &ventricle}) {
+    const FidelityCertificate one = certify(m->mesh, m->image, 1);
+    for (unsigned threads : {2u, 3u, 4u}) {
+      SCOPED_TRACE(std::to_string(threads) + " threads");
+      expect_same(certify(m->mesh, m->image, threads), one);
+    }
+  }
+}
+
 TEST(FidelityCertificate, EachDefectSentenceSaysWhatItsCountsSay) {
   const Meshed m = meshed(domain::beating_ventricle_phantom({40, 40, 16, 6}, {4.4, 4.4, 16, 3}), 8);
   const FidelityCertificate c = certify(m.mesh, m.image);
