@@ -42,7 +42,8 @@ JobOutcome run_job(const v1::ImageHeader& header, const refine::RefineParams& pa
       wire::decode_unclosed(header, input, &out.warnings, preparation.extend_time_frames);
   // The extension moved the origin by whole frames: it keeps its place in frames.
   if (preparation.time_scale > 0) image.set_time_spacing(preparation.time_scale);
-  for (const std::string& w : domain::clean_segmentation(image, preparation.min_island_voxels)
+  for (const std::string& w : domain::clean_segmentation(image, preparation.min_island_voxels,
+                                                         refine::working_threads(params))
                                   .warnings(preparation.min_island_voxels))
     out.warnings.push_back(w);
   if (image.labels().size() < 2) {

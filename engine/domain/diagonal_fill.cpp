@@ -79,11 +79,11 @@ bool keeps_its_label_connected(const LabelImage4& image, std::size_t k, LabelAt&
 
 }  // namespace
 
-DiagonalFill fill_diagonal_joins(LabelImage4& image) {
+DiagonalFill fill_diagonal_joins(LabelImage4& image, unsigned threads) {
   DiagonalFill out;
   bool settled = false;  // a round found every join a face join already
   for (int round = 0; round < kRounds && !settled; ++round) {
-    const FacePieces face = face_pieces(image, false);
+    const FacePieces face = face_pieces(image, false, threads);
     if (face.pieces.empty()) return out;
     // The labels the fills give, applied when the round's walk is over (the walk reads the
     // image as it was); the checks read them.
@@ -131,10 +131,11 @@ DiagonalFill fill_diagonal_joins(LabelImage4& image) {
   }
   // What no path could fill.
   if (!settled)
-    for_each_diagonal_join(image, face_pieces(image, false), [&](std::size_t i, std::size_t) {
-      ++out.labels[image.at(i)].left;
-      return true;
-    });
+    for_each_diagonal_join(image, face_pieces(image, false, threads),
+                           [&](std::size_t i, std::size_t) {
+                             ++out.labels[image.at(i)].left;
+                             return true;
+                           });
   return out;
 }
 

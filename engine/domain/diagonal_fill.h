@@ -26,6 +26,6 @@ struct DiagonalFill {
 
 /// Fills the diagonal joins of `image` in place (a few rounds, until none is left or none can be
 /// filled).
-DiagonalFill fill_diagonal_joins(LabelImage4& image);
+DiagonalFill fill_diagonal_joins(LabelImage4& image, unsigned threads = 1);
 
 }  // namespace mesh4d::domain

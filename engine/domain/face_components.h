@@ -22,8 +22,10 @@ struct FacePieces {
   std::vector<std::uint32_t> piece;  // by voxel: its piece's index
 };
 
-/// `with_background` false: only the non-zero labels' pieces (background voxels: kNoPiece).
-FacePieces face_pieces(const LabelImage4& image, bool with_background = true);
+/// `with_background` false: only the non-zero labels' pieces (background voxels: kNoPiece). On
+/// up to `threads` threads (slabs of frames flooded side by side, then joined): the same pieces
+/// in the same order with any number.
+FacePieces face_pieces(const LabelImage4& image, bool with_background = true, unsigned threads = 1);
 
 /// Calls fn(j) for each face neighbor j of voxel i inside the image.
 template <class Fn>

@@ -8,7 +8,7 @@ namespace mesh4d::domain {
 
 namespace {
 
-LabelCensus census_of(const LabelImage4& image, bool periodic) {
+LabelCensus census_of(const LabelImage4& image, bool periodic, unsigned threads) {
   const auto& d = image.dims();
   const auto& s = image.spacing();
   const double voxel3 = s[0] * s[1] * s[2];
@@ -29,7 +29,7 @@ LabelCensus census_of(const LabelImage4& image, bool periodic) {
     }
   if (!periodic) {
     std::vector<FacePieces::Piece> face;
-    for (const FacePieces::Piece& p : label_function_pieces(image, &face).pieces)
+    for (const FacePieces::Piece& p : label_function_pieces(image, &face, threads).pieces)
       ++by_label[p.label].components;
     for (const FacePieces::Piece& p : face) ++by_label[p.label].face_components;
   } else {
@@ -54,8 +54,8 @@ LabelCensus census_of(const LabelImage4& image, bool periodic) {
         if (in_middle[p] && !counted[classes.find(p)]++)
           ++(by_label[pieces.pieces[p].label].*field);
     };
-    count(label_function_pieces(tiled), &LabelCensus::PerLabel::components);
-    count(face_pieces(tiled, false), &LabelCensus::PerLabel::face_components);
+    count(label_function_pieces(tiled, nullptr, threads), &LabelCensus::PerLabel::components);
+    count(face_pieces(tiled, false, threads), &LabelCensus::PerLabel::face_components);
   }
   for (auto& [l, per] : by_label) {
     per.volume = static_cast<double>(per.voxels) * voxel3 * s[3];
@@ -66,12 +66,12 @@ LabelCensus census_of(const LabelImage4& image, bool periodic) {
 
 }  // namespace
 
-LabelCensus take_census(const LabelImage4& image) {
-  return census_of(image, false);
+LabelCensus take_census(const LabelImage4& image, unsigned threads) {
+  return census_of(image, false, threads);
 }
 
-LabelCensus take_periodic_census(const LabelImage4& cycle) {
-  return census_of(cycle, true);
+LabelCensus take_periodic_census(const LabelImage4& cycle, unsigned threads) {
+  return census_of(cycle, true, threads);
 }
 
 }  // namespace mesh4d::domain

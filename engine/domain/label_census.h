@@ -27,10 +27,11 @@ struct LabelCensus {
   std::vector<std::map<Label, double>> frame_volumes;
 };
 
-LabelCensus take_census(const LabelImage4& image);
+/// The pieces are found on up to `threads` threads (the same census with any number).
+LabelCensus take_census(const LabelImage4& image, unsigned threads = 1);
 
 /// The census of a cycle in periodic time (periodic_time.h): pieces are counted with its last
 /// frame next to its first.
-LabelCensus take_periodic_census(const LabelImage4& cycle);
+LabelCensus take_periodic_census(const LabelImage4& cycle, unsigned threads = 1);
 
 }  // namespace mesh4d::domain

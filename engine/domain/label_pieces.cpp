@@ -116,10 +116,10 @@ void for_each_diagonal_join(const LabelImage4& image, const FacePieces& face,
   }
 }
 
-FacePieces label_function_pieces(const LabelImage4& image,
-                                 std::vector<FacePieces::Piece>* face_out) {
+FacePieces label_function_pieces(const LabelImage4& image, std::vector<FacePieces::Piece>* face_out,
+                                 unsigned threads) {
   // The foreground's pieces (the background, most of a heart image, is never flooded).
-  FacePieces face = face_pieces(image, false);
+  FacePieces face = face_pieces(image, false, threads);
   if (face.pieces.empty()) return face;
   if (face_out) *face_out = face.pieces;
   support::UnionFind joined(face.pieces.size());

@@ -16,9 +16,11 @@
 namespace mesh4d::domain {
 
 /// The pieces of the non-zero labels (background voxels get no piece: FacePieces::kNoPiece).
-/// `face`, when given, receives the face-connected pieces of the non-zero labels.
+/// `face`, when given, receives the face-connected pieces of the non-zero labels. Those are
+/// found on up to `threads` threads.
 FacePieces label_function_pieces(const LabelImage4& image,
-                                 std::vector<FacePieces::Piece>* face = nullptr);
+                                 std::vector<FacePieces::Piece>* face = nullptr,
+                                 unsigned threads = 1);
 
 /// Calls fn(i, j) for diagonal joins between different pieces of `face` (face_pieces(image,
 /// false)): voxels i and j of one label, opposite corners of a block of 2^k voxels whose center

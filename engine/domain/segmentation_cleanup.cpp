@@ -44,8 +44,9 @@ std::size_t border_faces(const Dims4& d, std::size_t i) {
 }
 
 // Every face-connected piece below min_voxels to the label most of its face neighbors have.
-void remove_small_pieces(LabelImage4& image, std::size_t min_voxels, CleanupReport& report) {
-  const FacePieces found = face_pieces(image);
+void remove_small_pieces(LabelImage4& image, std::size_t min_voxels, CleanupReport& report,
+                         unsigned threads) {
+  const FacePieces found = face_pieces(image, true, threads);
   // The small pieces' voxels, grouped by piece, smallest pieces first.
   std::vector<std::uint32_t> small;
   for (std::uint32_t p = 0; p < found.pieces.size(); ++p) {
@@ -100,11 +101,11 @@ void remove_small_pieces(LabelImage4& image, std::size_t min_voxels, CleanupRepo
 
 }  // namespace
 
-CleanupReport clean_segmentation(LabelImage4& image, std::size_t min_voxels) {
+CleanupReport clean_segmentation(LabelImage4& image, std::size_t min_voxels, unsigned threads) {
   CleanupReport report;
   if (min_voxels == 0) return report;
-  remove_small_pieces(image, min_voxels, report);
-  report.diagonal = fill_diagonal_joins(image);
+  remove_small_pieces(image, min_voxels, report, threads);
+  report.diagonal = fill_diagonal_joins(image, threads);
   return report;
 }
 

@@ -36,7 +36,7 @@ struct CleanupReport {
 };
 
 /// Removes the pieces below `min_voxels` in place, then fills the diagonal joins (0: nothing is
-/// done).
-CleanupReport clean_segmentation(LabelImage4& image, std::size_t min_voxels);
+/// done). The pieces are found on up to `threads` threads (the same cleanup with any number).
+CleanupReport clean_segmentation(LabelImage4& image, std::size_t min_voxels, unsigned threads = 1);
 
 }  // namespace mesh4d::domain

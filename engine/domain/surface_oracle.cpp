@@ -57,7 +57,7 @@ SurfaceOracle::SurfaceOracle(const LabelImage4& image, const TimeCaps& caps, uns
   offset_.resize(std::max<std::size_t>(offset_.size(), labels.back() + 1u), 0.0);
   for (Label l : labels)
     if (twin(l) != 0) offset_[l] = offset(twin(l));
-  pieces_ = label_function_pieces(image);
+  pieces_ = label_function_pieces(image, nullptr, threads);
 }
 
 std::vector<double> SurfaceOracle::label_offsets(const std::vector<Label>& labels) {

@@ -46,8 +46,8 @@ FidelityCertificate certify(const mesh::Mesh4& mesh, const domain::LabelImage4& 
     l.boundary_list_mismatches = t.boundary_list_mismatches;
     l.volume = t.volume;
   }
-  const domain::LabelCensus census =
-      mesh.periodic() ? domain::take_periodic_census(image) : domain::take_census(image);
+  const domain::LabelCensus census = mesh.periodic() ? domain::take_periodic_census(image, threads)
+                                                     : domain::take_census(image, threads);
   for (const auto& per : census.labels) {
     LabelFidelity& l = by_label[per.label];
     l.label = per.label;

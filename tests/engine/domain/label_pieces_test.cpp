@@ -7,8 +7,11 @@
 
 #include <random>
 #include <set>
+#include <string>
 #include <vector>
 
+#include "domain/face_components.h"
+#include "domain/phantoms.h"
 #include "domain/surface_oracle.h"
 
 namespace mesh4d::domain {
@@ -43,6 +46,30 @@ TEST(LabelPieces, AWalkThroughJoinedNeighborsCoversExactlyItsPiece) {
       ASSERT_EQ(seen.size(), in_piece) << "trial " << trial << ", voxel " << seed;
       for (std::size_t j : seen) ASSERT_EQ(pieces.piece[j], pieces.piece[seed]);
       ASSERT_EQ(pieces.pieces[pieces.piece[seed]].voxels, in_piece);
+    }
+  }
+}
+
+// The face pieces on several threads (slabs of frames flooded side by side, then joined): the
+// same pieces, numbered alike, as one flood. The ventricle with salt of three labels has pieces
+// of every size, many crossing the slabs' borders, some joined only through a later slab.
+TEST(FacePieces, ThreadsGiveTheSamePieces) {
+  LabelImage4 image = beating_ventricle_phantom({100, 100, 44, 15}, {1.77, 1.77, 6, 1});
+  std::mt19937_64 rng(3);
+  for (std::size_t i = 0; i < image.voxel_count(); ++i)
+    if (rng() % 50 == 0) image.set(i, static_cast<Label>(rng() % 3));
+  for (bool background : {true, false}) {
+    const FacePieces one = face_pieces(image, background, 1);
+    for (unsigned threads : {2u, 3u, 5u}) {
+      SCOPED_TRACE(std::to_string(threads) + " threads, background " + std::to_string(background));
+      const FacePieces many = face_pieces(image, background, threads);
+      ASSERT_EQ(many.pieces.size(), one.pieces.size());
+      for (std::size_t p = 0; p < one.pieces.size(); ++p) {
+        ASSERT_EQ(many.pieces[p].label, one.pieces[p].label) << p;
+        ASSERT_EQ(many.pieces[p].voxels, one.pieces[p].voxels) << p;
+        ASSERT_EQ(many.pieces[p].touches_border, one.pieces[p].touches_border) << p;
+      }
+      EXPECT_TRUE(many.piece == one.piece);
     }
   }
 }
