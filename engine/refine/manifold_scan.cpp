@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <cstdint>
 
 #include "mesh/link_topology.h"
 #include "support/parallel_parts.h"
@@ -14,7 +16,8 @@ using mesh4d::VertexId;
 
 namespace {
 
-constexpr std::size_t kScanPerThread = 4096;  // vertices; fewer stay on one thread
+constexpr std::size_t kScanPerThread = 4096;                   // vertices; fewer stay on one thread
+constexpr std::size_t kCellsPerThread = std::size_t{1} << 16;  // pentatope slots, likewise
 
 }  // namespace
 
@@ -113,41 +116,61 @@ void non_manifold_labels_at(const RefinementState& state, VertexId v, std::vecto
 
 std::vector<NonManifoldVertex> find_non_manifold_vertices(const RefinementState& state) {
   // The boundary vertices (those of a pentatope with a neighbor of another label), then their
-  // stars from one pass over the pentatopes (a counting sort: a star search per vertex cost
-  // three times as much).
+  // stars from passes over the pentatopes (a counting sort: a star search per vertex cost three
+  // times as much), each pass on the job's threads. With several threads a star's pentatopes
+  // come in any order; the links do not depend on it.
   const auto& st = state.tri.store();
   const std::size_t slots = st.cell_slots();
-  std::vector<std::uint32_t> first(st.vertex_slots() + 1, 0);  // 1 + count, then offsets
-  for (CellId c = 0; c < slots; ++c) {
-    if (!st.is_live(c)) continue;
+  const unsigned threads = working_threads(state.params);
+  const unsigned cell_parts = static_cast<unsigned>(
+      std::clamp<std::size_t>(slots / kCellsPerThread, 1, std::max(threads, 1u)));
+  const auto over_cells = [&](auto fn) {
+    support::run_parts(cell_parts, [&](unsigned part) {
+      const auto [begin, end] = support::part_range(slots, part, cell_parts);
+      for (std::size_t c = begin; c < end; ++c)
+        if (st.is_live(static_cast<CellId>(c))) fn(static_cast<CellId>(c));
+    });
+  };
+  std::vector<std::uint8_t> marked(st.vertex_slots(), 0);
+  over_cells([&](CellId c) {
     const Label l = state.output_label(c);
-    if (l == 0) continue;
+    if (l == 0) return;
     const auto& cell = st.cell(c);
     for (int f = 0; f < 5; ++f)
       if (state.output_label(cell.n[f]) != l) {
-        for (VertexId v : cell.v) first[v + 1] = 1;
+        for (VertexId v : cell.v) std::atomic_ref(marked[v]).store(1, std::memory_order_relaxed);
         break;
       }
-  }
+  });
   std::vector<VertexId> boundary;
   // In periodic time the middle sheet's vertices stand for all: their links are the glued
   // mesh's (the labels are the same in every sheet).
   for (VertexId v = 0; v < st.vertex_slots(); ++v)
-    if (first[v + 1] && state.covering.counts(st.point(v)[3])) boundary.push_back(v);
-  std::vector<std::uint8_t> marked(st.vertex_slots(), 0);
-  for (VertexId v : boundary) marked[v] = 1, first[v + 1] = 0;
-  for (CellId c = 0; c < slots; ++c)
-    if (st.is_live(c))
-      for (VertexId v : st.cell(c).v)
-        if (marked[v]) ++first[v + 1];
+    if (marked[v] && state.covering.counts(st.point(v)[3]))
+      boundary.push_back(v);
+    else
+      marked[v] = 0;
+  std::vector<std::uint32_t> first(st.vertex_slots() + 1, 0);  // counts, then offsets
+  over_cells([&](CellId c) {
+    for (VertexId v : st.cell(c).v)
+      if (marked[v]) std::atomic_ref(first[v + 1]).fetch_add(1, std::memory_order_relaxed);
+  });
   for (std::size_t v = 0; v + 1 < first.size(); ++v) first[v + 1] += first[v];
   std::vector<CellId> stars(first.back());
   {
     std::vector<std::uint32_t> next(first.begin(), first.end() - 1);
-    for (CellId c = 0; c < slots; ++c)
-      if (st.is_live(c))
+    if (cell_parts == 1) {  // in cell order: the same stars as ever with one thread
+      over_cells([&](CellId c) {
         for (VertexId v : st.cell(c).v)
           if (marked[v]) stars[next[v]++] = c;
+      });
+    } else {
+      over_cells([&](CellId c) {
+        for (VertexId v : st.cell(c).v)
+          if (marked[v])
+            stars[std::atomic_ref(next[v]).fetch_add(1, std::memory_order_relaxed)] = c;
+      });
+    }
   }
 
   const unsigned parts = static_cast<unsigned>(std::min<std::size_t>(

@@ -5,6 +5,7 @@
 #include <unordered_set>
 
 #include "refine/manifold_relabeling.h"
+#include "support/parallel_parts.h"
 #include "support/union_find.h"
 
 namespace mesh4d::refine {
@@ -31,21 +32,36 @@ constexpr std::size_t kWalkLimit = std::size_t{1} << 15;
 constexpr std::size_t kSpareLinks = 8;
 // Passes over the pieces (each acts on pieces that no earlier action of the pass touched).
 constexpr int kPasses = 3;
+// Pentatope slots per thread, at least, when the pieces are found on the job's threads.
+constexpr std::size_t kMinShare = std::size_t{1} << 16;
 
 // The regions' facet-connected pieces, and the image piece each pentatope stands for.
 struct RegionPieces {
   explicit RegionPieces(const RefinementState& state) : found(state.tri.store().cell_slots()) {
     const auto& st = state.tri.store();
-    image_piece.assign(st.cell_slots(), FacePieces::kNoPiece);
+    const std::size_t slots = st.cell_slots();
+    image_piece.assign(slots, FacePieces::kNoPiece);
+    // Each pentatope's label and image piece on the job's threads (the labels are computed at
+    // most once each, atomically: RefinementState::label_of), then the pieces joined on one.
+    std::vector<Label> label(slots, 0);
+    const unsigned parts = static_cast<unsigned>(
+        std::clamp<std::size_t>(slots / kMinShare, 1, std::max(working_threads(state.params), 1u)));
+    support::run_parts(parts, [&](unsigned part) {
+      const auto [begin, end] = support::part_range(slots, part, parts);
+      for (std::size_t c = begin; c < end; ++c) {
+        if (!st.is_live(static_cast<CellId>(c))) continue;
+        const Label l = state.output_label(static_cast<CellId>(c));
+        label[c] = l;
+        if (l != 0) image_piece[c] = state.oracle.piece_at(state.info[c].center, l);
+      }
+    });
     std::vector<CellId> output;
-    for (CellId c = 0; c < st.cell_slots(); ++c) {
-      if (!st.is_live(c)) continue;
-      const Label l = state.output_label(c);
+    for (CellId c = 0; c < slots; ++c) {
+      const Label l = label[c];
       if (l == 0) continue;
       output.push_back(c);
-      image_piece[c] = state.oracle.piece_at(state.info[c].center, l);
       for (CellId n : st.cell(c).n)
-        if (n < c && st.is_live(n) && state.output_label(n) == l) found.join(c, n);
+        if (n < c && label[n] == l) found.join(c, n);
     }
     for (CellId c : output) members[found.find(c)].push_back(c);
     // Each image piece's owner: the piece with the most pentatopes standing for it.
