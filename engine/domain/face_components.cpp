@@ -60,7 +60,8 @@ FacePieces face_pieces(const LabelImage4& image, bool with_background, unsigned 
   out.piece.assign(n, FacePieces::kNoPiece);
   const unsigned slabs = static_cast<unsigned>(
       std::clamp<std::size_t>(std::min(n / kMinSlabVoxels, d[3]), 1, std::max(threads, 1u)));
-  if (slabs == 1) {
+  constexpr std::uint32_t kSlabIds = 1u << 27;  // ids of slab s start at s · kSlabIds
+  if (slabs == 1 || n / slabs >= kSlabIds) {
     flood(image, with_background, 0, n, 0, out.piece, out.pieces);
     return out;
   }
@@ -70,12 +71,6 @@ FacePieces face_pieces(const LabelImage4& image, bool with_background, unsigned 
   // slab's seed), as one flood over the whole image numbers them.
   std::vector<std::size_t> first_frame(slabs + 1);
   for (unsigned s = 0; s <= slabs; ++s) first_frame[s] = support::part_range(d[3], s, slabs).first;
-  first_frame[slabs] = d[3];
-  constexpr std::uint32_t kSlabIds = 1u << 27;  // ids of slab s start at s · kSlabIds
-  if (n / slabs >= kSlabIds) {
-    flood(image, with_background, 0, n, 0, out.piece, out.pieces);
-    return out;
-  }
   std::vector<std::vector<FacePieces::Piece>> local(slabs);
   support::run_parts(slabs, [&](unsigned s) {
     flood(image, with_background, first_frame[s] * layer, first_frame[s + 1] * layer, s * kSlabIds,
