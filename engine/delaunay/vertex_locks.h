@@ -5,6 +5,8 @@
 
 #include <atomic>
 #include <cstdint>
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include "delaunay/cell_guard.h"
@@ -13,6 +15,12 @@ namespace mesh4d::delaunay {
 
 class VertexLocks final : public CellGuard {
  public:
+  /// A lock that another thread held: the vertex and that thread's id.
+  struct Blocker {
+    VertexId vertex;
+    std::uint32_t owner;
+  };
+
   /// `owner` identifies the thread: any value but 0 (the unlocked word), distinct per thread.
   VertexLocks(PentatopeStore& store, std::uint32_t owner) : store_(store), owner_(owner) {}
   VertexLocks(const VertexLocks&) = delete;
@@ -25,12 +33,13 @@ class VertexLocks final : public CellGuard {
     std::atomic_ref word(store_.owner(v));
     std::uint32_t current = word.load(std::memory_order_relaxed);
     if (current == owner_) return true;
-    if (current != 0) return false;
-    if (!word.compare_exchange_strong(current, owner_, std::memory_order_acquire,
-                                      std::memory_order_relaxed))
-      return false;
-    held_.push_back(v);
-    return true;
+    if (current == 0 && word.compare_exchange_strong(current, owner_, std::memory_order_acquire,
+                                                     std::memory_order_relaxed)) {
+      held_.push_back(v);
+      return true;
+    }
+    blocker_ = Blocker{v, current};
+    return false;
   }
   /// Takes a vertex this thread created already locked (PentatopeStore::add_vertex's owner).
   void adopt(VertexId v) { held_.push_back(v); }
@@ -48,10 +57,18 @@ class VertexLocks final : public CellGuard {
   }
   std::size_t held() const { return held_.size(); }
 
+  /// The last lock that failed since the last call, if one did.
+  std::optional<Blocker> take_blocker() { return std::exchange(blocker_, std::nullopt); }
+  /// Whether the blocker still holds its vertex.
+  bool still_held(const Blocker& b) const {
+    return std::atomic_ref(store_.owner(b.vertex)).load(std::memory_order_acquire) == b.owner;
+  }
+
  private:
   PentatopeStore& store_;
   std::uint32_t owner_;
   std::vector<VertexId> held_;
+  std::optional<Blocker> blocker_;
 };
 
 }  // namespace mesh4d::delaunay
