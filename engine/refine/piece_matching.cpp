@@ -5,8 +5,8 @@
 #include <unordered_set>
 
 #include "refine/manifold_relabeling.h"
+#include "support/concurrent_union_find.h"
 #include "support/parallel_parts.h"
-#include "support/union_find.h"
 
 namespace mesh4d::refine {
 
@@ -42,7 +42,9 @@ struct RegionPieces {
     const std::size_t slots = st.cell_slots();
     image_piece.assign(slots, FacePieces::kNoPiece);
     // Each pentatope's label and image piece on the job's threads (the labels are computed at
-    // most once each, atomically: RefinementState::label_of), then the pieces joined on one.
+    // most once each, atomically: RefinementState::label_of), then the pieces joined on them
+    // too: a piece's root is its first pentatope, whatever the threads, and so are the ties
+    // that the roots break below.
     std::vector<Label> label(slots, 0);
     const unsigned parts = static_cast<unsigned>(
         std::clamp<std::size_t>(slots / kMinShare, 1, std::max(working_threads(state.params), 1u)));
@@ -55,21 +57,37 @@ struct RegionPieces {
         if (l != 0) image_piece[c] = state.oracle.piece_at(state.info[c].center, l);
       }
     });
-    std::vector<CellId> output;
+    support::run_parts(parts, [&](unsigned part) {
+      const auto [begin, end] = support::part_range(slots, part, parts);
+      for (std::size_t c = begin; c < end; ++c) {
+        const Label l = label[c];
+        if (l == 0) continue;
+        for (CellId n : st.cell(static_cast<CellId>(c)).n)
+          if (n < c && label[n] == l) found.join(c, n);
+      }
+    });
+    // (Neighbors in the store mostly share a piece and an image piece: the last map entry is
+    // kept at hand instead of a lookup per pentatope.)
+    std::size_t last_root = slots;
+    std::vector<CellId>* last_members = nullptr;
     for (CellId c = 0; c < slots; ++c) {
-      const Label l = label[c];
-      if (l == 0) continue;
-      output.push_back(c);
-      for (CellId n : st.cell(c).n)
-        if (n < c && label[n] == l) found.join(c, n);
+      if (label[c] == 0) continue;
+      const std::size_t root = found.find(c);
+      if (root != last_root) last_root = root, last_members = &members[root];
+      last_members->push_back(c);
     }
-    for (CellId c : output) members[found.find(c)].push_back(c);
     // Each image piece's owner: the piece with the most pentatopes standing for it.
     std::unordered_map<std::uint32_t, std::pair<std::size_t, std::size_t>> best;  // -> (n, root)
     for (const auto& [root, cells] : members) {
       std::unordered_map<std::uint32_t, std::size_t> count;
-      for (CellId c : cells)
-        if (image_piece[c] != FacePieces::kNoPiece) ++count[image_piece[c]];
+      std::uint32_t last_piece = FacePieces::kNoPiece;
+      std::size_t* last_count = nullptr;
+      for (CellId c : cells) {
+        if (image_piece[c] == FacePieces::kNoPiece) continue;
+        if (image_piece[c] != last_piece)
+          last_piece = image_piece[c], last_count = &count[last_piece];
+        ++*last_count;
+      }
       for (const auto& [p, n] : count) {
         auto [it, inserted] = best.try_emplace(p, n, root);
         if (!inserted &&
@@ -85,7 +103,7 @@ struct RegionPieces {
     for (const auto& [p, owner] : best) owned[owner.second].push_back(p);
   }
 
-  support::UnionFind found;
+  support::ConcurrentUnionFind found;
   std::vector<std::uint32_t> image_piece;                             // by cell
   std::unordered_map<std::size_t, std::vector<CellId>> members;       // root -> its pentatopes
   std::unordered_map<std::size_t, std::uint32_t> dominant;            // root -> most stood for
