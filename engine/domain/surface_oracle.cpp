@@ -22,7 +22,7 @@ Point4 lerp(const Point4& a, const Point4& b, double s) {
 }  // namespace
 
 SurfaceOracle::SurfaceOracle(const LabelImage4& image, const TimeCaps& caps, unsigned threads)
-    : image_(image), feature_(feature_transform(image, threads)), uniform_(image) {
+    : image_(image), feature_(feature_transform(image, threads)), uniform_(image, threads) {
   if (feature_.empty() || feature_[0] == kNoFeature)
     throw ImageError("image has a single label everywhere: there is no surface to mesh");
   const Vec4& s = image.spacing();

@@ -13,7 +13,8 @@ namespace mesh4d::domain {
 
 class UniformCells {
  public:
-  explicit UniformCells(const LabelImage4& image);
+  /// Found on `threads` threads (the same cells with any number).
+  explicit UniformCells(const LabelImage4& image, unsigned threads = 1);
 
   /// Whether the cell whose lowest corner is voxel `first` (by linear index) lies inside the
   /// image and has one label at its 16 corners.
