@@ -8,15 +8,15 @@
 
 #include "mesh/link_topology.h"
 #include "mesh/periodic_mesh.h"
+#include "support/concurrent_union_find.h"
 #include "support/parallel_parts.h"
 #include "support/parallel_sort.h"
-#include "support/union_find.h"
 
 namespace mesh4d::mesh {
 namespace {
 
 using Id = std::uint32_t;
-using support::UnionFind;
+using support::ConcurrentUnionFind;
 
 template <std::size_t N>
 std::array<Id, N> sorted(std::array<Id, N> a) {
@@ -98,22 +98,37 @@ TopologyCertificate certify_topology(const Mesh4& unglued, unsigned threads) {
       }
   });
   support::parallel_sort(facets, threads);
-  UnionFind pieces(n);
-  std::vector<BoundaryFacet> boundary;
-  for (std::size_t i = 0; i < facets.size();) {
-    std::size_t j = i;
-    while (j < facets.size() && facets[j].first == facets[i].first) ++j;
-    for (std::size_t a = i; a < j; ++a) {
-      bool shared = false;
-      for (std::size_t b = i; b < j; ++b)
-        if (b != a && mesh.labels[facets[b].second] == mesh.labels[facets[a].second]) {
-          shared = true;
-          pieces.join(facets[a].second, facets[b].second);
-        }
-      if (!shared) boundary.push_back({mesh.labels[facets[a].second], facets[a].first});
+  // The runs of equal facets split among the threads (a share starts at the first run that
+  // begins in it); the pieces, counted below, do not depend on which element roots them, and
+  // the boundary facets come in the sorted order whatever the threads.
+  ConcurrentUnionFind pieces(n);
+  const auto run_start = [&](std::size_t i) {
+    while (i > 0 && i < facets.size() && facets[i].first == facets[i - 1].first) ++i;
+    return i;
+  };
+  std::vector<std::vector<BoundaryFacet>> boundary_parts(parts);
+  support::run_parts(parts, [&](unsigned part) {
+    const std::size_t begin = run_start(support::part_range(facets.size(), part, parts).first);
+    const std::size_t end = run_start(support::part_range(facets.size(), part, parts).second);
+    for (std::size_t i = begin; i < end;) {
+      std::size_t j = i;
+      while (j < facets.size() && facets[j].first == facets[i].first) ++j;
+      for (std::size_t a = i; a < j; ++a) {
+        bool shared = false;
+        for (std::size_t b = i; b < j; ++b)
+          if (b != a && mesh.labels[facets[b].second] == mesh.labels[facets[a].second]) {
+            shared = true;
+            pieces.join(facets[a].second, facets[b].second);
+          }
+        if (!shared)
+          boundary_parts[part].push_back({mesh.labels[facets[a].second], facets[a].first});
+      }
+      i = j;
     }
-    i = j;
-  }
+  });
+  std::vector<BoundaryFacet> boundary;
+  for (const auto& b : boundary_parts) boundary.insert(boundary.end(), b.begin(), b.end());
+  boundary_parts = {};
 
   // Pieces, and those that meet another piece of their label at a vertex (an edge or a
   // triangle contact has its vertices too).

@@ -351,3 +351,73 @@ TEST(TopologyCertificate, APentatopeRelabeledByHandIsFound) {
 
 }  // namespace
 }  // namespace mesh4d::mesh
+
+namespace mesh4d::mesh {
+namespace {
+
+// An n⁴ grid of unit hypercubes, each as its 24 Kuhn pentatopes, labeled by blocks that meet
+// at vertices, edges and faces: large enough for the certificate to split its work.
+Mesh4 labeled_kuhn_grid(int n) {
+  Mesh4 m;
+  const auto id = [&](int x, int y, int z, int t) {
+    return static_cast<std::uint32_t>(((t * (n + 1) + z) * (n + 1) + y) * (n + 1) + x);
+  };
+  for (int t = 0; t <= n; ++t)
+    for (int z = 0; z <= n; ++z)
+      for (int y = 0; y <= n; ++y)
+        for (int x = 0; x <= n; ++x) {
+          m.vertices.push_back({double(x), double(y), double(z), double(t)});
+          m.vertex_kinds.push_back(VertexKind::free);
+        }
+  for (int t = 0; t < n; ++t)
+    for (int z = 0; z < n; ++z)
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+          const Label l = static_cast<Label>(1 + (x / 3 + 2 * (y / 2) + z / 3 + t / 4) % 3);
+          std::array<int, 4> axes{0, 1, 2, 3};
+          do {
+            std::array<int, 4> c{x, y, z, t};
+            std::array<std::uint32_t, 5> p{};
+            p[0] = id(c[0], c[1], c[2], c[3]);
+            for (int k = 0; k < 4; ++k) {
+              ++c[axes[k]];
+              p[k + 1] = id(c[0], c[1], c[2], c[3]);
+            }
+            m.pentatopes.push_back(p);
+            m.labels.push_back(l);
+          } while (std::next_permutation(axes.begin(), axes.end()));
+        }
+  add_hull(m);
+  add_interfaces(m);
+  return m;
+}
+
+TEST(TopologyCertificate, ThreadsGiveTheSameCertificateOnALargeMesh) {
+  const Mesh4 m = labeled_kuhn_grid(9);  // 157,464 pentatopes: split four ways
+  const TopologyCertificate one = certify_topology(m, 1);
+  ASSERT_EQ(one.labels.size(), 3u);
+  std::size_t pieces = 0;
+  for (const LabelTopology& l : one.labels) pieces += l.components;
+  EXPECT_GT(pieces, 3u);
+  for (const unsigned threads : {2u, 3u, 4u}) {
+    const TopologyCertificate many = certify_topology(m, threads);
+    ASSERT_EQ(many.labels.size(), one.labels.size());
+    for (std::size_t i = 0; i < one.labels.size(); ++i) {
+      const LabelTopology &a = one.labels[i], &b = many.labels[i];
+      SCOPED_TRACE(std::to_string(threads) + " threads, label " + std::to_string(a.label));
+      EXPECT_EQ(b.label, a.label);
+      EXPECT_EQ(b.pentatopes, a.pentatopes);
+      EXPECT_EQ(b.components, a.components);
+      EXPECT_EQ(b.touching_components, a.touching_components);
+      EXPECT_EQ(b.boundary_facets, a.boundary_facets);
+      EXPECT_EQ(b.non_manifold_triangles, a.non_manifold_triangles);
+      EXPECT_EQ(b.non_manifold_edges, a.non_manifold_edges);
+      EXPECT_EQ(b.non_manifold_vertices, a.non_manifold_vertices);
+      EXPECT_EQ(b.boundary_list_mismatches, a.boundary_list_mismatches);
+      EXPECT_EQ(b.volume, a.volume);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace mesh4d::mesh
