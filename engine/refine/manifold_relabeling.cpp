@@ -9,6 +9,7 @@
 #include "mesh/link_topology.h"
 #include "refine/link_ball.h"
 #include "refine/relabeling.h"
+#include "support/parallel_parts.h"
 #include "support/union_find.h"
 
 namespace mesh4d::refine {
@@ -35,6 +36,8 @@ constexpr double kMaxSag = 0.5;
 constexpr long kDetourLoss = 2;
 constexpr std::size_t kDetours = 6;
 constexpr int kDetourDepth = 1;
+// Vertices per thread, at least, when a round's links are looked at again on the job's threads.
+constexpr std::size_t kCheckShare = 64;
 
 }  // namespace
 
@@ -408,14 +411,27 @@ ManifoldRelabeling::Outcome ManifoldRelabeling::run(const std::vector<VertexId>*
     for (const NonManifoldVertex& f : failing) look.push_back(f.vertex);
     std::sort(look.begin(), look.end());
     look.erase(std::unique(look.begin(), look.end()), look.end());
+    // (Read only: on the job's threads, each a contiguous share, joined in order.)
+    const unsigned parts = static_cast<unsigned>(std::clamp<std::size_t>(
+        look.size() / kCheckShare, 1, std::max(working_threads(state_.params), 1u)));
+    std::vector<std::vector<NonManifoldVertex>> found(parts);
+    std::vector<std::vector<VertexId>> near(parts);
+    support::run_parts(parts, [&](unsigned part) {
+      std::vector<CellId> star;
+      const auto [begin, end] = support::part_range(look.size(), part, parts);
+      for (std::size_t i = begin; i < end; ++i) {
+        const VertexId v = look[i];
+        non_manifold_labels_at(state_, v, star, &found[part]);
+        if (std::binary_search(touched_.begin(), touched_.end(), v))
+          for (CellId c : star)
+            for (VertexId u : state_.tri.store().cell(c).v) near[part].push_back(u);
+      }
+    });
     failing.clear();
     retry.clear();
-    std::vector<CellId> star;
-    for (VertexId v : look) {
-      non_manifold_labels_at(state_, v, star, &failing);
-      if (std::binary_search(touched_.begin(), touched_.end(), v))
-        for (CellId c : star)
-          for (VertexId u : state_.tri.store().cell(c).v) retry.push_back(u);
+    for (unsigned part = 0; part < parts; ++part) {
+      failing.insert(failing.end(), found[part].begin(), found[part].end());
+      retry.insert(retry.end(), near[part].begin(), near[part].end());
     }
     std::sort(retry.begin(), retry.end());
     retry.erase(std::unique(retry.begin(), retry.end()), retry.end());
