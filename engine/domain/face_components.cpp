@@ -58,8 +58,7 @@ FacePieces face_pieces(const LabelImage4& image, bool with_background, unsigned 
   const std::size_t n = image.voxel_count();
   FacePieces out;
   out.piece.assign(n, FacePieces::kNoPiece);
-  const unsigned slabs = static_cast<unsigned>(
-      std::clamp<std::size_t>(std::min(n / kMinSlabVoxels, d[3]), 1, std::max(threads, 1u)));
+  const unsigned slabs = support::parts_for(std::min(n / kMinSlabVoxels, d[3]), 1, threads);
   constexpr std::uint32_t kSlabIds = 1u << 27;  // ids of slab s start at s · kSlabIds
   if (slabs == 1 || n / slabs >= kSlabIds) {
     flood(image, with_background, 0, n, 0, out.piece, out.pieces);

@@ -94,8 +94,7 @@ std::vector<std::uint32_t> feature_transform(const LabelImage4& image, unsigned 
   std::vector<double> sq_dist(n, 0.0);
   // A share of fewer voxels is not worth a thread.
   constexpr std::size_t kMinShare = std::size_t{1} << 18;
-  const unsigned parts =
-      static_cast<unsigned>(std::clamp<std::size_t>(n / kMinShare, 1, std::max(threads, 1u)));
+  const unsigned parts = support::parts_for(n, kMinShare, threads);
   // Surface voxels: those with a face neighbor of another label; each part takes whole rows
   // along x and writes only its own voxels.
   const Dims4& d = image.dims();

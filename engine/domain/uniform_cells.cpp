@@ -19,8 +19,7 @@ UniformCells::UniformCells(const LabelImage4& image, unsigned threads) {
   const Dims4& d = image.dims();
   const std::size_t n = image.voxel_count();
   std::vector<std::uint8_t> same(n, 1);
-  const unsigned parts =
-      static_cast<unsigned>(std::clamp<std::size_t>(n / kMinShare, 1, std::max(threads, 1u)));
+  const unsigned parts = support::parts_for(n, kMinShare, threads);
   std::size_t stride = 1;
   for (int axis = 0; axis < 4; ++axis) {
     const std::size_t length = d[axis];

@@ -78,8 +78,7 @@ MeshStats compute_stats(const Mesh4& mesh, unsigned threads) {
   stats.boundary_tetrahedra = mesh.boundary.size();
   // A share of fewer than kMinShare pentatopes is not worth a thread.
   constexpr std::size_t kMinShare = 4096;
-  const unsigned parts = static_cast<unsigned>(
-      std::clamp<std::size_t>(mesh.pentatopes.size() / kMinShare, 1, std::max(threads, 1u)));
+  const unsigned parts = support::parts_for(mesh.pentatopes.size(), kMinShare, threads);
   std::vector<Part> measured(parts);
   support::run_parts(parts, [&](unsigned p) {
     const auto [begin, end] = support::part_range(mesh.pentatopes.size(), p, parts);

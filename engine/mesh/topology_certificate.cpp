@@ -85,8 +85,7 @@ TopologyCertificate certify_topology(const Mesh4& unglued, unsigned threads) {
   // Facets: pentatopes of one label that share one are one piece; a facet that no other
   // pentatope of the label shares bounds the label's region.
   std::vector<std::pair<std::array<Id, 4>, Id>> facets(5 * n);
-  const unsigned parts = static_cast<unsigned>(
-      std::clamp<std::size_t>(n / support::kMinSortShare, 1, std::max(threads, 1u)));
+  const unsigned parts = support::parts_for(n, support::kMinSortShare, threads);
   support::run_parts(parts, [&](unsigned part) {
     const auto [begin, end] = support::part_range(n, part, parts);
     for (std::size_t p = begin; p < end; ++p)
@@ -187,8 +186,7 @@ TopologyCertificate certify_topology(const Mesh4& unglued, unsigned threads) {
       runs.push_back(i);
   runs.push_back(vertex_links.size());
   std::vector<std::uint8_t> sphere_link(runs.size() - 1, 1);
-  const unsigned link_parts =
-      static_cast<unsigned>(std::clamp<std::size_t>(runs.size() / 1024, 1, std::max(threads, 1u)));
+  const unsigned link_parts = support::parts_for(runs.size(), 1024, threads);
   support::run_parts(link_parts, [&](unsigned part) {
     std::vector<std::array<Id, 3>> sphere;
     const auto [begin, end] = support::part_range(runs.size() - 1, part, link_parts);

@@ -33,8 +33,7 @@ mesh::VertexKind output_kind(VertexKind k) {
 mesh::Mesh4 extract(const RefinementState& state, std::vector<std::string>& warnings) {
   const auto& st = state.tri.store();
   const std::size_t slots = st.cell_slots();
-  const unsigned parts = static_cast<unsigned>(
-      std::clamp<std::size_t>(slots / kMinShare, 1, working_threads(state.params)));
+  const unsigned parts = support::parts_for(slots, kMinShare, working_threads(state.params));
 
   // Pass 1, by shares of the cell slots: every pentatope's label, which are kept, and which
   // vertices they use (several threads may mark one vertex: atomic stores of the same value).

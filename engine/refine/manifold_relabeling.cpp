@@ -412,8 +412,8 @@ ManifoldRelabeling::Outcome ManifoldRelabeling::run(const std::vector<VertexId>*
     std::sort(look.begin(), look.end());
     look.erase(std::unique(look.begin(), look.end()), look.end());
     // (Read only: on the job's threads, each a contiguous share, joined in order.)
-    const unsigned parts = static_cast<unsigned>(std::clamp<std::size_t>(
-        look.size() / kCheckShare, 1, std::max(working_threads(state_.params), 1u)));
+    const unsigned parts =
+        support::parts_for(look.size(), kCheckShare, working_threads(state_.params));
     std::vector<std::vector<NonManifoldVertex>> found(parts);
     std::vector<std::vector<VertexId>> near(parts);
     support::run_parts(parts, [&](unsigned part) {

@@ -122,8 +122,7 @@ std::vector<NonManifoldVertex> find_non_manifold_vertices(const RefinementState&
   const auto& st = state.tri.store();
   const std::size_t slots = st.cell_slots();
   const unsigned threads = working_threads(state.params);
-  const unsigned cell_parts = static_cast<unsigned>(
-      std::clamp<std::size_t>(slots / kCellsPerThread, 1, std::max(threads, 1u)));
+  const unsigned cell_parts = support::parts_for(slots, kCellsPerThread, threads);
   const auto over_cells = [&](auto fn) {
     support::run_parts(cell_parts, [&](unsigned part) {
       const auto [begin, end] = support::part_range(slots, part, cell_parts);

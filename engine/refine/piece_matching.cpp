@@ -46,8 +46,7 @@ struct RegionPieces {
     // too: a piece's root is its first pentatope, whatever the threads, and so are the ties
     // that the roots break below.
     std::vector<Label> label(slots, 0);
-    const unsigned parts = static_cast<unsigned>(
-        std::clamp<std::size_t>(slots / kMinShare, 1, std::max(working_threads(state.params), 1u)));
+    const unsigned parts = support::parts_for(slots, kMinShare, working_threads(state.params));
     support::run_parts(parts, [&](unsigned part) {
       const auto [begin, end] = support::part_range(slots, part, parts);
       for (std::size_t c = begin; c < end; ++c) {

@@ -310,8 +310,7 @@ std::vector<TwoSidedDistance> measure(const mesh::Mesh4& sampled, const mesh::Me
       samples.push_back({l, false, place(centroid)});
     }
   const TetrahedronGrid grid(searched, threads);
-  const unsigned parts =
-      static_cast<unsigned>(std::clamp<std::size_t>(samples.size() / 64, 1, std::max(threads, 1u)));
+  const unsigned parts = support::parts_for(samples.size(), 64, threads);
   support::run_parts(parts, [&](unsigned part) {
     const auto [begin, end] = support::part_range(samples.size(), part, parts);
     for (std::size_t i = begin; i < end; ++i) {

@@ -4,6 +4,7 @@
 // part throws is rethrown here.
 #pragma once
 
+#include <algorithm>
 #include <exception>
 #include <mutex>
 #include <thread>
@@ -39,6 +40,13 @@ void run_parts(unsigned parts, Fn&& fn) {
 // The half-open range [begin, end) of part p when n items are split into `parts`.
 inline std::pair<std::size_t, std::size_t> part_range(std::size_t n, unsigned p, unsigned parts) {
   return {n * p / parts, n * (p + 1) / parts};
+}
+
+// How many parts `items` make on up to `threads` threads with at least `min_share` items each
+// (a smaller share is not worth a thread); at least one.
+inline unsigned parts_for(std::size_t items, std::size_t min_share, unsigned threads) {
+  return static_cast<unsigned>(
+      std::clamp<std::size_t>(items / min_share, 1, std::max(threads, 1u)));
 }
 
 }  // namespace mesh4d::support
