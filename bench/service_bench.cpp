@@ -22,6 +22,7 @@
 #include "mesh/mesh_io.h"
 #include "mesh4d/v1/mesh4d.grpc.pb.h"
 #include "refine/refiner.h"
+#include "wire/grpc_library.h"
 #include "wire/submit_stream.h"
 #include "wire/upload_codec.h"
 
@@ -117,6 +118,7 @@ ServiceTimes through_service(v1::MeshService::Stub& stub, const v1::JobSpec& spe
 }  // namespace
 
 int main(int argc, char** argv) {
+  const mesh4d::wire::GrpcLibrary grpc_library;  // first in, last out
   int repeats = 5;
   for (int i = 1; i + 1 < argc; ++i)
     if (std::strcmp(argv[i], "--repeats") == 0) repeats = std::max(1, std::atoi(argv[i + 1]));

@@ -7,9 +7,11 @@
 #include "health_command.h"
 #include "job_commands.h"
 #include "mesh_file_commands.h"
+#include "wire/grpc_library.h"
 
 int main(int argc, char** argv) {
   using namespace mesh4d::client;
+  const mesh4d::wire::GrpcLibrary grpc_library;  // first in, last out
   CLI::App app{"mesh4d-client: talk to a mesh4d-server"};
   app.require_subcommand(1);
   GlobalOptions global;

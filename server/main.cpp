@@ -21,6 +21,7 @@
 #include "metrics.h"
 #include "rest_api.h"
 #include "server_options.h"
+#include "wire/grpc_library.h"
 
 namespace {
 
@@ -75,6 +76,7 @@ std::shared_ptr<grpc::ServerCredentials> credentials(const mesh4d::server::Serve
 
 int main(int argc, char** argv) {
   using namespace mesh4d::server;
+  const mesh4d::wire::GrpcLibrary grpc_library;  // first in, last out
   // Jobs allocate and free large arrays (triangulation blocks, uploads, meshes). glibc raises its
   // mmap threshold each time such an array is freed, so that later ones come from the heap, where
   // the long-lived job records between them keep freed memory from going back. A fixed

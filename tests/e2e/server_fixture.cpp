@@ -1,12 +1,32 @@
 #include "server_fixture.h"
 
+#include <gtest/gtest.h>
+
 #include <sstream>
 #include <thread>
 
+#include "wire/grpc_library.h"
 #include "wire/submit_stream.h"
 #include "wire/upload_codec.h"
 
 namespace mesh4d::testing {
+namespace {
+
+// The tests' clients hold gRPC from the first test to the last and let it go in the
+// environment's TearDown, on the main thread, before main returns (wire/grpc_library.h).
+class GrpcLibraryEnvironment : public ::testing::Environment {
+ public:
+  void SetUp() override { library_ = std::make_unique<wire::GrpcLibrary>(); }
+  void TearDown() override { library_.reset(); }
+
+ private:
+  std::unique_ptr<wire::GrpcLibrary> library_;
+};
+
+[[maybe_unused]] const auto* const kGrpcLibrary =
+    ::testing::AddGlobalTestEnvironment(new GrpcLibraryEnvironment);
+
+}  // namespace
 
 RunningServer::RunningServer(const std::string& data_dir, const std::vector<std::string>& flags) {
   const std::string port_file = data_dir + ".port";
