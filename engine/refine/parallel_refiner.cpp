@@ -80,6 +80,7 @@ struct ParallelRefiner::Impl {
   // Takes the older half of another worker's queues (of one rule only, unless Rule::none).
   bool steal(Worker& w, Shared& shared, Rule only = Rule::none);
   bool queued_anywhere(const Shared& shared, Rule rule) const;  // in any worker's queues
+  static bool queued_here(const Worker& w);                     // in w's queues, any rule
   bool higher_in_flight(const Shared& shared) const;  // an R1–R4 operation under way anywhere
   void distribute_work(unsigned threads);             // all queued work split among the workers
   // Past the job's thread budget: waits, counted idle and holding no work, until the budget
@@ -210,6 +211,12 @@ bool ParallelRefiner::Impl::queued_anywhere(const Shared& shared, Rule rule) con
   return false;
 }
 
+bool ParallelRefiner::Impl::queued_here(const Worker& w) {
+  for (int r = 0; r < kQueuedRules; ++r)
+    if (w.queued[r].load(std::memory_order_relaxed) > 0) return true;
+  return false;
+}
+
 bool ParallelRefiner::Impl::higher_in_flight(const Shared& shared) const {
   for (unsigned t = 0; t < shared.threads; ++t)
     if (lanes_[t]->higher_in_flight.load(std::memory_order_acquire)) return true;
@@ -311,7 +318,8 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
         bool counted = false;
         while (shared.running()) {
           if (counted) shared.idle.fetch_sub(1, std::memory_order_acq_rel), counted = false;
-          if (steal(w, shared)) break;
+          // Its own queues too: a pausing worker hands its work to worker 0 (pause()).
+          if (queued_here(w) || steal(w, shared)) break;
           counted = true;
           if (shared.idle.fetch_add(1, std::memory_order_acq_rel) + 1 == shared.threads) {
             shared.finished.store(true, std::memory_order_release);
@@ -436,8 +444,15 @@ void ParallelRefiner::Impl::drain(ProgressSink* sink) {
     }  // joined
     leave_parallel(threads);
     if (shared.error) std::rethrow_exception(shared.error);
-    if (shared.finished.load()) return;
-    // Stopped because the visit stamps ran low: clear them and go on with what is queued.
+    // Every worker idle, yet work may be queued: a worker that paused handed its queues to
+    // worker 0 after worker 0 had counted itself idle, and its own count ended the phase.
+    // Another phase takes that work.
+    bool left = false;
+    for (int r = 0; r < kQueuedRules && !left; ++r)
+      left = queued_anywhere(shared, static_cast<Rule>(r));
+    if (shared.finished.load() && !left) return;
+    // Stopped because the visit stamps ran low (cleared above, at the next phase's start), or
+    // work was left: go on with what is queued.
   }
 }
 
