@@ -451,8 +451,8 @@ void ParallelRefiner::Impl::drain(ProgressSink* sink) {
     for (int r = 0; r < kQueuedRules && !left; ++r)
       left = queued_anywhere(shared, static_cast<Rule>(r));
     if (shared.finished.load() && !left) return;
-    // Stopped because the visit stamps ran low (cleared above, at the next phase's start), or
-    // work was left: go on with what is queued.
+    // Stopped because the visit stamps ran low (cleared when the next phase starts), or work
+    // was left: go on with what is queued.
   }
 }
 

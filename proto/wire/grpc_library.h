@@ -3,10 +3,10 @@
 //
 // gRPC cleans up when its last reference drops. Where that happens on one of gRPC's own threads
 // (a channel's last work ending after the program let go of it), the clean-up runs on a detached
-// thread, which can still run while the program exits and its static objects are destroyed; a
-// soak test's process aborted that way once (std::logic_error from a string built from null).
-// Holding a reference until the end of main makes the last drop ours, so the clean-up is done
-// before main returns.
+// thread, which can still run while the program exits and its static objects are destroyed,
+// and abort the program after its work is done (std::logic_error from a string built from
+// null). Holding a reference until the end of main makes the last drop ours, so the clean-up is
+// done before main returns.
 #pragma once
 
 #include <chrono>
