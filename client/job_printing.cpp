@@ -56,6 +56,10 @@ void print_stats(std::ostream& out, const v1::MeshStats& s) {
                 (unsigned long long)i.r4(), (unsigned long long)i.r5(),
                 (unsigned long long)s.removals().r5(), s.elapsed_seconds());
   out << line;
+  std::snprintf(line, sizeof line,
+                "  boundary vertices off the surface by at most %.3g (sag offset)\n",
+                s.boundary_offset());
+  out << line;
   for (const v1::LabelCertificate& c : s.certificate()) {
     std::snprintf(
         line, sizeof line,

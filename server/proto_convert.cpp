@@ -84,6 +84,7 @@ v1::MeshStats to_proto(const mesh::MeshStats& s) {
   *r.mutable_insertions() = counts(s.insertions);
   *r.mutable_removals() = counts(s.removals);
   r.set_elapsed_seconds(s.elapsed_seconds);
+  r.set_boundary_offset(s.boundary_offset);
   return r;
 }
 

@@ -57,7 +57,12 @@ SurfaceOracle::SurfaceOracle(const LabelImage4& image, const TimeCaps& caps, uns
   offset_.resize(std::max<std::size_t>(offset_.size(), labels.back() + 1u), 0.0);
   for (Label l : labels)
     if (twin(l) != 0) offset_[l] = offset(twin(l));
+  real_of_ = caps.real_of;
   pieces_ = label_function_pieces(image, nullptr, threads);
+}
+
+Label SurfaceOracle::real_label(Label l) const {
+  return l < real_of_.size() && real_of_[l] != 0 ? real_of_[l] : l;
 }
 
 std::vector<double> SurfaceOracle::label_offsets(const std::vector<Label>& labels) {

@@ -61,6 +61,8 @@ class SurfaceOracle {
   /// β by label value, up to the highest of `labels` (ascending, as LabelImage4::labels()):
   /// by rank, 0 for the lowest, kMaxLabelOffset for the highest.
   static std::vector<double> label_offsets(const std::vector<Label>& labels);
+  /// The label a time caps' ghost mirrors; any other label is its own.
+  Label real_label(Label l) const;
   /// This image's offsets, by label value.
   const std::vector<double>& label_offsets() const { return offset_; }
   /// The image's pieces as the label function joins them (label_pieces.h), read once with the
@@ -218,6 +220,7 @@ class SurfaceOracle {
   std::vector<std::uint32_t> feature_;
   UniformCells uniform_;
   std::vector<double> offset_;  // β by label value
+  std::vector<Label> real_of_;  // the time caps' (TimeCaps::real_of)
   FacePieces pieces_;
   std::size_t corner_offset_[16];  // linear index of each of a cell's corners from its first
   double voxel_size_;              // the largest spacing: the scale of search steps

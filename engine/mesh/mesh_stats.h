@@ -32,6 +32,9 @@ struct MeshStats {
   RuleCounts insertions{};
   RuleCounts removals{};
   double elapsed_seconds = 0;
+  /// How far the sag offset moved a boundary vertex off ∂Ω (refine/facet_sag.h), physical units;
+  /// 0: every boundary vertex lies on ∂Ω. Set by the refiner, like the rule counts.
+  double boundary_offset = 0;
 };
 
 inline constexpr int kHistogramBins = 20;

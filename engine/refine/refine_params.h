@@ -30,6 +30,9 @@ struct RefineParams {
   // pinches (most are on the cavity-myocardium interface, away from junctions;
   // docs/performance.md, "Tried and dropped").
   double junction_spacing = 0;
+  // Offset the boundary vertices for the facets' sag (facet_sag.h), so that regions keep their
+  // volume; off: every boundary vertex lies on ∂Ω, as in the paper.
+  bool sag_offset = true;
   // Worker threads sharing the triangulation (parallel_refiner.cpp); 1: the sequential path.
   unsigned threads = 1;
   // How many of them may work at once, changed while the job runs; null: all of them.

@@ -9,7 +9,7 @@
 //   manifold_scan, manifold_relabeling   every region's boundary a manifold at each vertex
 //   manifold_sampling  ∂Ω sampled more where no relabeling mends a vertex's link
 //   piece_matching     each region's pieces those of the image's label
-//   extraction         the output mesh
+//   extraction         the output mesh, its boundary offset for the facets' sag
 #include "refine/refiner.h"
 
 #include <algorithm>
@@ -229,6 +229,7 @@ struct Refiner::Pipeline {
     result.idle_seconds = done.idle_seconds;
     result.rules_seconds = rules_seconds;
     result.stats.elapsed_seconds = meter.elapsed_seconds();
+    result.stats.boundary_offset = result.sag.largest_offset;
   }
 
   RefinementState state;
@@ -304,6 +305,8 @@ RefineResult Refiner::run(ProgressSink* sink) {
   result.non_manifold_left = sampled.failing.size() - mended;
   p.meter.report(sink, Phase::extracting, true);
   result.mesh = extract(p.state, result.warnings);
+  if (p.state.params.sag_offset)
+    result.sag = offset_facet_sag(result.mesh, p.state.oracle, p.state.params);
   clock.lap(Stage::extraction);
   p.finish(result);
   clock.lap(Stage::statistics);

@@ -13,6 +13,7 @@
 #include "domain/surface_oracle.h"
 #include "mesh/mesh4.h"
 #include "mesh/mesh_stats.h"
+#include "refine/facet_sag.h"
 #include "refine/progress.h"
 #include "refine/refine_params.h"
 
@@ -28,7 +29,7 @@ enum class Stage {
   manifold,           // the manifold scan and its relabeling
   piece_matching,     // each region's pieces matched with the image's
   manifold_sampling,  // ∂Ω sampled where the links still fail
-  extraction,         // the output mesh
+  extraction,         // the output mesh, its boundary offset for the facets' sag
   statistics,         // its quality statistics
 };
 inline constexpr int kStages = 9;
@@ -59,6 +60,8 @@ struct RefineResult {
   std::size_t manifold_points = 0;
   // The piece matching's mended pieces, both of its passes (piece_matching.h).
   std::size_t pieces_removed = 0, pieces_bridged = 0, pieces_cut = 0;
+  // The boundary vertices offset for the facets' sag (RefineParams::sag_offset).
+  SagOffset sag;
   // The parallel phases' overheads (Progress): all 0 with one thread.
   std::uint64_t rollbacks = 0;
   double contention_seconds = 0;

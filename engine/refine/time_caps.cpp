@@ -58,6 +58,7 @@ void drop_ghosts(RefineResult& result, const domain::TimeCaps& caps, unsigned th
   result.stats.insertions = kept.insertions;
   result.stats.removals = kept.removals;
   result.stats.elapsed_seconds = kept.elapsed_seconds;
+  result.stats.boundary_offset = kept.boundary_offset;
 }
 
 }  // namespace mesh4d::refine

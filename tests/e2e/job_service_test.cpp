@@ -28,9 +28,11 @@ domain::LabelImage4 small_sphere() {
   return domain::hypersphere_phantom({32, 32, 32, 32}, {1, 1, 1, 1}, 12);
 }
 
-// Fidelity of a fetched mesh: boundary vertices on ∂Ω of the image at the job's time scale, or
-// on a time cap (half a frame past an end frame), every region closed and manifold.
-void expect_fidelity(const mesh::Mesh4& m, domain::LabelImage4 image, double time_scale) {
+// Fidelity of a fetched mesh: boundary vertices on ∂Ω of the image at the job's time scale, on
+// a time cap (half a frame past an end frame), or off ∂Ω by no more than the job's sag offset
+// (`offset`, its stats' boundary_offset); every region closed and manifold.
+void expect_fidelity(const mesh::Mesh4& m, domain::LabelImage4 image, double time_scale,
+                     double offset) {
   ASSERT_GT(m.pentatopes.size(), 100u);
   image.set_time_spacing(time_scale);
   const domain::SurfaceOracle oracle(image);
@@ -40,7 +42,10 @@ void expect_fidelity(const mesh::Mesh4& m, domain::LabelImage4 image, double tim
     for (auto v : b.vertices) {
       const double t = m.vertices[v][3];
       if (std::abs(t - caps[0]) < 1e-6 || std::abs(t - caps[1]) < 1e-6) continue;
-      ASSERT_LE(std::abs(oracle.cut_value(m.vertices[v], 1, 0)), 1e-6) << "vertex " << v;
+      if (std::abs(oracle.cut_value(m.vertices[v], 1, 0)) <= 1e-6) continue;
+      const domain::SurfacePoint z = oracle.closest_surface_point(m.vertices[v]);
+      ASSERT_NE(z.inner, z.outer) << "vertex " << v;
+      ASSERT_LE(distance(z.point, m.vertices[v]), offset * (1 + 1e-6) + 1e-9) << "vertex " << v;
     }
   const auto check = mesh::check_boundary(m);
   EXPECT_EQ(check.non_feature_uses, 0u);
@@ -201,8 +206,14 @@ TEST(JobService, SubmitWatchFetchWithTheRealClient) {
   EXPECT_NE(r.output.find("per frame (chosen from the data)", at), std::string::npos) << r.output;
   const double time_scale = std::stod(r.output.substr(at + printed.size()));
   EXPECT_DOUBLE_EQ(time_scale, domain::automatic_time_scale(image, 3));
+  // How far the sag offset moved a boundary vertex, as the client prints it.
+  const std::string off = "boundary vertices off the surface by at most ";
+  const std::size_t off_at = r.output.find(off);
+  ASSERT_NE(off_at, std::string::npos) << r.output;
+  const double offset = std::stod(r.output.substr(off_at + off.size()));
+  EXPECT_GT(offset, 0);
   const mesh::Mesh4 m = mesh::read_m4d(dir + "/out.m4d");
-  expect_fidelity(m, image, time_scale);
+  expect_fidelity(m, image, time_scale, offset * (1 + 1e-3));
 
   // The events, watched from the start of a second job through gRPC: a snapshot first, vertex
   // and rule counts that rise, the statistics, then SUCCEEDED.
@@ -315,7 +326,7 @@ TEST(JobService, KilledServerResumesItsJobAndKeepsEarlierResults) {
   const std::string dir = make_temp_dir("mesh4d-restart");
   const auto image = small_sphere();
   std::string done_id, running_id;
-  std::map<std::string, double> time_scale;
+  std::map<std::string, double> time_scale, offset;  // each job's, by id
   {
     RunningServer server(dir + "/data");
     auto stub = server.stub();
@@ -326,6 +337,7 @@ TEST(JobService, KilledServerResumesItsJobAndKeepsEarlierResults) {
     const v1::Job done = wait_until_done(*stub, done_id);
     ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED);
     time_scale[done_id] = done.params().time_scale();
+    offset[done_id] = done.stats().boundary_offset();
     const Upload slow = make_upload(image, 1.5, "slow");
     v1::SubmitJobResponse b;
     ASSERT_TRUE(submit(*stub, slow.spec, slow.data, &b).ok());
@@ -349,11 +361,13 @@ TEST(JobService, KilledServerResumesItsJobAndKeepsEarlierResults) {
   const v1::Job finished = wait_until_done(*stub, running_id);
   EXPECT_EQ(finished.state(), v1::JOB_STATE_SUCCEEDED) << finished.error();
   time_scale[running_id] = finished.params().time_scale();
+  offset[running_id] = finished.stats().boundary_offset();
   for (const auto& id : {done_id, running_id}) {
     const RunResult fetch = run_command({MESH4D_CLIENT_BIN, "--server", restarted.address(),
                                          "fetch", id, "--out", dir + "/" + id + ".m4d"});
     ASSERT_EQ(fetch.exit_code, 0) << fetch.output;
-    expect_fidelity(mesh::read_m4d(dir + "/" + id + ".m4d"), image, time_scale.at(id));
+    expect_fidelity(mesh::read_m4d(dir + "/" + id + ".m4d"), image, time_scale.at(id),
+                    offset.at(id));
   }
   // The same request id after the restart still finds the same job.
   const Upload again = make_upload(image, 1.5, "slow");

@@ -85,7 +85,8 @@ TEST_P(ParallelRefiner, EveryPhantomPassesTheSequentialChecks) {
       std::printf("  label %d: volume %.0f vs voxels %.0f\n", int(label), meshed, voxels);
       EXPECT_NEAR(meshed / voxels, 1.0, c.volume_tolerance) << "label " << label;
     }
-    expect_fidelity(r.mesh, oracle, c.labels, c.distance_bound * params.delta);
+    expect_fidelity(r.mesh, oracle, c.labels, c.distance_bound * params.delta,
+                    r.sag.largest_offset);
     std::size_t components = 0;
     EXPECT_EQ(unmeshed_components(c.image, r.mesh, &components), 0u);
     EXPECT_EQ(components, c.components);
@@ -196,7 +197,7 @@ TEST(ThreadBudget, ALimitChangingMidRunLosesNoWork) {
     EXPECT_NEAR(output_volume(r.mesh, label) / voxel_volume(c.image, label), 1.0,
                 c.volume_tolerance);
   }
-  expect_fidelity(r.mesh, oracle, c.labels, c.distance_bound * params.delta);
+  expect_fidelity(r.mesh, oracle, c.labels, c.distance_bound * params.delta, r.sag.largest_offset);
   std::size_t components = 0;
   EXPECT_EQ(unmeshed_components(c.image, r.mesh, &components), 0u);
   EXPECT_EQ(components, c.components);

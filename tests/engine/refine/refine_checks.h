@@ -30,13 +30,15 @@ std::optional<domain::LabelImage4> patient_at_papers_spacing(const std::string& 
 void expect_only_manifold_warning(const RefineResult& r);
 
 /// Fidelity (the refiner's promise): every boundary-tetrahedron vertex is a feature vertex lying on
-/// ∂Ω, that is, the two largest interpolated label indicators there are equal (to 1e-6); the
+/// ∂Ω, that is, the two largest interpolated label indicators there are equal (to 1e-6), or no
+/// farther from it than `vertex_offset` (RefineResult::sag.largest_offset); the
 /// boundary of every label's region is a closed 3-manifold: each of its triangles is in exactly
 /// two of the region's boundary tetrahedra (none odd, none pinched in four or more, also where
 /// three labels meet); and the boundary stays within `max_distance` of ∂Ω (physical units).
 /// GoogleTest expectations.
 void expect_fidelity(const mesh::Mesh4& m, const domain::SurfaceOracle& oracle,
-                     const std::vector<domain::Label>& labels, double max_distance);
+                     const std::vector<domain::Label>& labels, double max_distance,
+                     double vertex_offset);
 
 /// The 4D connected components (face neighbors) of each label's voxels that hold no output
 /// pentatope of that label: a pentatope counts for the component of the voxel nearest its

@@ -78,7 +78,7 @@ TEST(Refiner, HypersphereTerminatesValidWithBoundedRatioAndTheRightVolume) {
       (unsigned long long)r.stats.insertions[2], (unsigned long long)r.stats.insertions[3],
       (unsigned long long)r.stats.insertions[4], (unsigned long long)r.stats.removals[4],
       on_surface, total);
-  expect_fidelity(r.mesh, oracle, {0, 1}, kDistanceBound * params.delta);
+  expect_fidelity(r.mesh, oracle, {0, 1}, kDistanceBound * params.delta, r.sag.largest_offset);
 }
 
 // One thread and one seed give one mesh, also for the second job of a process: state kept
@@ -122,7 +122,7 @@ TEST(Refiner, VentricleGetsBothLabels) {
   // 0.50 δ, largest 0.70 δ, and once in CI 0.76 δ; hence 1.0 δ here. (The rules bound it only
   // loosely: a boundary tetrahedron lies in its surface ball, centered on ∂Ω and no larger than
   // the circumball of one of its two pentatopes, which meets ∂Ω and so is kept below 2Δ by R2.)
-  expect_fidelity(r.mesh, oracle, {0, 1, 2}, 1.0 * params.delta);
+  expect_fidelity(r.mesh, oracle, {0, 1, 2}, 1.0 * params.delta, r.sag.largest_offset);
   std::size_t components = 0;
   EXPECT_EQ(unmeshed_components(image, r.mesh, &components), 0u);
   EXPECT_EQ(components, 2u);
@@ -213,7 +213,7 @@ TEST(Refiner, PatientClosesEveryPinchWhereThreeLabelsMeet) {
   expect_only_manifold_warning(r);
   // At this coarse δ one boundary tetrahedron lies 0.511 δ from ∂Ω, with or without the
   // manifold stage (a sample of every tetrahedron; the 2,000 sampled before missed it).
-  expect_fidelity(r.mesh, oracle, {0, 1, 2}, 0.55 * params.delta);
+  expect_fidelity(r.mesh, oracle, {0, 1, 2}, 0.55 * params.delta, r.sag.largest_offset);
 }
 
 // Pat01 at the paper's spacing (first 15 frames, cleaned at the default, as bench/refine_bench):
@@ -265,7 +265,7 @@ TEST(Refiner, RelabelingCanKeepEitherOfTwoEqualGaps) {
   EXPECT_GT(r.relabeled, 0u);
   // One boundary tetrahedron lies 0.574 δ from ∂Ω, with or without the manifold step (it comes
   // from the rules and the relabeling): every tetrahedron measured.
-  expect_fidelity(r.mesh, oracle, {0, 1, 2}, 0.6 * params.delta);
+  expect_fidelity(r.mesh, oracle, {0, 1, 2}, 0.6 * params.delta, r.sag.largest_offset);
 }
 
 // The other single-label phantoms: a hyper-torus (a hole), two blobs that merge and split over
@@ -307,7 +307,7 @@ TEST(Refiner, TorusAndBlobsKeepFidelity) {
     std::printf("%s δ=%.1f: %llu pentatopes, volume %.0f vs voxels %.0f, %.2f s\n", c.name, c.delta,
                 (unsigned long long)r.stats.pentatopes, meshed, voxels, r.stats.elapsed_seconds);
     EXPECT_NEAR(meshed / voxels, 1.0, 0.15);
-    expect_fidelity(r.mesh, oracle, {0, 1}, c.distance_bound * params.delta);
+    expect_fidelity(r.mesh, oracle, {0, 1}, c.distance_bound * params.delta, r.sag.largest_offset);
     std::size_t components = 0;
     EXPECT_EQ(unmeshed_components(c.image, r.mesh, &components), 0u);
     EXPECT_EQ(components, c.components);

@@ -1,0 +1,258 @@
+#include "refine/facet_sag.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "delaunay/geometry.h"
+#include "delaunay/predicates.h"
+#include "domain/periodic_time.h"
+#include "mesh/periodic_mesh.h"
+#include "support/parallel_parts.h"
+
+namespace mesh4d::refine {
+
+namespace {
+
+using Vec = std::array<double, 4>;
+
+// 4/5: the mean depth of a paraboloid under an inscribed regular tetrahedron, over the depth at
+// its circumcenter (E|x|² over a simplex centered at 0 is Σ|vᵢ|² / ((n+1)(n+2)) = ρ²/5 for n = 3).
+constexpr double kMeanDepthRatio = 1.0 - 1.0 / 5.0;
+constexpr std::size_t kMinShare = 4096;  // facets or pentatopes per thread, at least
+constexpr int kHalvings = 4;             // then a move that still spoils a pentatope is dropped
+constexpr int kBisections = 40;
+
+double dot(const Vec& a, const Vec& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
+}
+
+Vec minus(const Point4& a, const Point4& b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2], a[3] - b[3]};
+}
+
+double det3(double a, double b, double c, double d, double e, double f, double g, double h,
+            double i) {
+  return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+}
+
+// The normal of the hyperplane through a tetrahedron's edge vectors u, v, w (their 4D cross
+// product), of length six times the tetrahedron's volume.
+Vec cross(const Vec& u, const Vec& v, const Vec& w) {
+  return {det3(u[1], u[2], u[3], v[1], v[2], v[3], w[1], w[2], w[3]),
+          -det3(u[0], u[2], u[3], v[0], v[2], v[3], w[0], w[2], w[3]),
+          det3(u[0], u[1], u[3], v[0], v[1], v[3], w[0], w[1], w[3]),
+          -det3(u[0], u[1], u[2], v[0], v[1], v[2], w[0], w[1], w[2])};
+}
+
+// One restricted facet's measure: its unit normal from the lower label to the higher, its
+// volume, and the signed distance along that normal from its circumcenter to ∂Ω (positive: the
+// surface lies on the higher label's side, so the facet cuts into the lower label).
+struct FacetSag {
+  Vec normal{};
+  double volume = 0;
+  double sag = 0;
+  bool measured = false;
+};
+
+FacetSag measure(const mesh::Mesh4& mesh, const mesh::BoundaryTetrahedron& b,
+                 const domain::SurfaceOracle& oracle) {
+  FacetSag out;
+  const Point4& p0 = mesh.vertices[b.vertices[0]];
+  const Vec e[3] = {minus(mesh.vertices[b.vertices[1]], p0),
+                    minus(mesh.vertices[b.vertices[2]], p0),
+                    minus(mesh.vertices[b.vertices[3]], p0)};
+  Vec n = cross(e[0], e[1], e[2]);
+  const double length = std::sqrt(dot(n, n));
+  if (!(length > 0)) return out;
+  for (double& c : n) c /= length;
+  // Oriented away from the facet's pentatope (inner → outer), then from the lower real label to
+  // the higher (a ghost is its real label here, so that both sides of a cap's ridge agree).
+  const bool inner_higher = oracle.real_label(b.inner) > oracle.real_label(b.outer);
+  const auto& cell = mesh.pentatopes[b.pentatope];
+  const auto apex = *std::find_if(cell.begin(), cell.end(), [&](std::uint32_t v) {
+    return std::find(b.vertices.begin(), b.vertices.end(), v) == b.vertices.end();
+  });
+  const bool flip = (dot(n, minus(mesh.vertices[apex], p0)) > 0) != inner_higher;
+  if (flip)
+    for (double& c : n) c = -c;
+  // The circumcenter within the facet's hyperplane: p0 + Σ λᵢ eᵢ with eᵢ·(c − p0) = |eᵢ|²/2.
+  double g[3][3], rhs[3];
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) g[i][j] = dot(e[i], e[j]);
+    rhs[i] = g[i][i] / 2;
+  }
+  const double d =
+      det3(g[0][0], g[0][1], g[0][2], g[1][0], g[1][1], g[1][2], g[2][0], g[2][1], g[2][2]);
+  if (!(std::abs(d) > 0)) return out;
+  const double l[3] = {
+      det3(rhs[0], g[0][1], g[0][2], rhs[1], g[1][1], g[1][2], rhs[2], g[2][1], g[2][2]) / d,
+      det3(g[0][0], rhs[0], g[0][2], g[1][0], rhs[1], g[1][2], g[2][0], rhs[2], g[2][2]) / d,
+      det3(g[0][0], g[0][1], rhs[0], g[1][0], g[1][1], rhs[1], g[2][0], g[2][1], rhs[2]) / d};
+  Point4 center;
+  for (int a = 0; a < 4; ++a) center[a] = p0[a] + l[0] * e[0][a] + l[1] * e[1][a] + l[2] * e[2][a];
+  const double radius = std::sqrt(dot(minus(center, p0), minus(center, p0)));
+  // The dual Voronoi edge is the line through the circumcenter along the normal; its crossing
+  // with the facet's own interface within a circumradius is the surface ball's center.
+  const domain::Label hi = inner_higher ? b.inner : b.outer, lo = inner_higher ? b.outer : b.inner;
+  const auto cut = [&](double s) {
+    Point4 q;
+    for (int a = 0; a < 4; ++a) q[a] = center[a] + s * n[a];
+    return oracle.cut_value(q, hi, lo);
+  };
+  double s0 = -radius, s1 = radius, f0 = cut(s0);
+  if ((f0 > 0) == (cut(s1) > 0)) return out;
+  for (int i = 0; i < kBisections; ++i) {
+    const double m = (s0 + s1) / 2, fm = cut(m);
+    if ((fm > 0) == (f0 > 0))
+      s0 = m, f0 = fm;
+    else
+      s1 = m;
+  }
+  out.normal = n;
+  out.volume = length / 6;
+  out.sag = (s0 + s1) / 2;
+  out.measured = true;
+  return out;
+}
+
+// Whether a pentatope with corners moved is still as good as the refinement left it: positively
+// oriented (exactly), no sliver it was not, and no radius-edge ratio past the bound it was not.
+bool still_good(const delaunay::Simplex4& before, const delaunay::Simplex4& after,
+                const RefineParams& params) {
+  if (delaunay::orient4(after[0], after[1], after[2], after[3], after[4]) <= 0) return false;
+  const double tau = delaunay::normalized_volume(after);
+  if (tau < params.sliver_bound && tau < delaunay::normalized_volume(before)) return false;
+  const double rho = delaunay::radius_edge_ratio(after);
+  return rho < params.radius_edge_bound || rho <= delaunay::radius_edge_ratio(before);
+}
+
+}  // namespace
+
+SagOffset offset_facet_sag(mesh::Mesh4& mesh, const domain::SurfaceOracle& oracle,
+                           const RefineParams& params) {
+  SagOffset report;
+  const std::size_t nv = mesh.vertices.size();
+  const std::vector<std::uint32_t> glued = mesh::glued_vertex_ids(mesh);
+  const std::vector<Point4> before = mesh.vertices;
+  // Which interface each vertex lies on, a time caps' ghost counting as its real label; a vertex
+  // on two is a junction and stays. A facet between a label and its ghost is the cap: flat, not
+  // measured, and its vertices move within the cap's hyperplane.
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max(), kMany = kNone - 1;
+  std::vector<std::uint32_t> interface(nv, kNone);
+  std::vector<char> on_cap(nv, 0);
+  std::vector<std::uint32_t> facets;  // each measured facet once (both sides are listed)
+  for (std::uint32_t i = 0; i < mesh.boundary.size(); ++i) {
+    const auto& b = mesh.boundary[i];
+    const domain::Label a = oracle.real_label(b.inner), c = oracle.real_label(b.outer);
+    if (a == c) {
+      for (std::uint32_t v : b.vertices) on_cap[glued[v]] = 1;
+      continue;
+    }
+    const std::uint32_t key = (std::uint32_t{std::min(a, c)} << 16) | std::max(a, c);
+    for (std::uint32_t v : b.vertices) {
+      std::uint32_t& k = interface[glued[v]];
+      k = k == kNone ? key : k == key ? k : kMany;
+    }
+    if (b.outer == 0 || b.inner > b.outer) facets.push_back(i);
+  }
+  std::vector<FacetSag> sag(facets.size());
+  const unsigned threads = working_threads(params);
+  const unsigned parts = support::parts_for(facets.size(), kMinShare, threads);
+  support::run_parts(parts, [&](unsigned p) {
+    const auto [begin, end] = support::part_range(facets.size(), p, parts);
+    for (std::size_t i = begin; i < end; ++i)
+      sag[i] = measure(mesh, mesh.boundary[facets[i]], oracle);
+  });
+  // Each vertex's offset: the facets' volume-weighted mean sag, times the mean-depth ratio,
+  // along their volume-weighted normal.
+  std::vector<Vec> normal(nv, Vec{});
+  std::vector<double> weighted(nv, 0), weight(nv, 0);
+  double sag_sum = 0, volume_sum = 0;
+  for (std::size_t i = 0; i < facets.size(); ++i) {
+    const FacetSag& s = sag[i];
+    if (!s.measured) continue;
+    ++report.facets;
+    sag_sum += std::abs(s.sag) * s.volume, volume_sum += s.volume;
+    for (std::uint32_t v : mesh.boundary[facets[i]].vertices) {
+      const std::uint32_t g = glued[v];
+      for (int a = 0; a < 4; ++a) normal[g][a] += s.volume * s.normal[a];
+      weighted[g] += s.volume * s.sag, weight[g] += s.volume;
+    }
+  }
+  report.mean_sag = volume_sum > 0 ? sag_sum / volume_sum : 0;
+  std::vector<Vec> offset(nv, Vec{});
+  std::vector<std::uint32_t> moving;
+  for (std::uint32_t v = 0; v < nv; ++v) {
+    if (glued[v] != v || weight[v] == 0 || interface[v] >= kMany ||
+        mesh.vertex_kinds[v] != mesh::VertexKind::feature)
+      continue;
+    const double depth = kMeanDepthRatio * weighted[v] / weight[v];
+    // In periodic time a vertex within its offset of the seam keeps its time, so that twins stay
+    // exact translates and every pentatope keeps its anchor in the period.
+    const double reach = std::abs(depth);
+    const bool near_seam =
+        mesh.periodic() && (std::abs(before[v][3] - mesh.period_start) <= reach ||
+                            std::abs(before[v][3] - mesh.period_start - mesh.period) <= reach);
+    if (on_cap[v] || near_seam) normal[v][3] = 0;
+    const double length = std::sqrt(dot(normal[v], normal[v]));
+    if (!(length > 0)) continue;
+    for (int a = 0; a < 4; ++a) offset[v][a] = depth * normal[v][a] / length;
+    if (mesh.periodic()) offset[v][3] = domain::snap_time(offset[v][3]);
+    moving.push_back(v);
+  }
+  // The pentatopes a move touches, and the moves' scales, halved where one spoils a pentatope.
+  std::vector<double> scale(nv, 0);
+  for (std::uint32_t v : moving) scale[v] = 1;
+  std::vector<std::uint32_t> touched;
+  for (std::uint32_t p = 0; p < mesh.pentatopes.size(); ++p)
+    for (std::uint32_t v : mesh.pentatopes[p])
+      if (scale[glued[v]] > 0) {
+        touched.push_back(p);
+        break;
+      }
+  const auto place = [&] {
+    for (std::uint32_t v = 0; v < nv; ++v) {
+      const double k = scale[glued[v]];
+      for (int a = 0; a < 4; ++a) mesh.vertices[v][a] = before[v][a] + k * offset[glued[v]][a];
+    }
+  };
+  std::vector<char> spoiled(touched.size());
+  for (int round = 0;; ++round) {
+    place();
+    const unsigned check_parts = support::parts_for(touched.size(), kMinShare, threads);
+    support::run_parts(check_parts, [&](unsigned p) {
+      const auto [begin, end] = support::part_range(touched.size(), p, check_parts);
+      for (std::size_t i = begin; i < end; ++i) {
+        delaunay::Simplex4 was, is;
+        for (int k = 0; k < 5; ++k) {
+          const std::uint32_t v = mesh.pentatopes[touched[i]][k];
+          was[k] = before[v], is[k] = mesh.vertices[v];
+        }
+        spoiled[i] = !still_good(was, is, params);
+      }
+    });
+    bool any = false;
+    for (std::size_t i = 0; i < touched.size(); ++i) {
+      if (!spoiled[i]) continue;
+      any = true;
+      for (std::uint32_t v : mesh.pentatopes[touched[i]]) {
+        double& k = scale[glued[v]];
+        k = round < kHalvings ? k / 2 : 0;
+      }
+    }
+    if (!any) break;
+  }
+  for (std::uint32_t v : moving) {
+    report.held += scale[v] < 1;
+    if (scale[v] == 0) continue;
+    ++report.moved;
+    report.largest_offset =
+        std::max(report.largest_offset, scale[v] * std::sqrt(dot(offset[v], offset[v])));
+  }
+  return report;
+}
+
+}  // namespace mesh4d::refine
