@@ -29,13 +29,15 @@ struct SliceVolumes {
 // The 4D refinement in a forked child (its memory its own, as in the other rows), as a job with
 // `--delta` alone runs it: cleaned, at the time scale chosen from the data, with time caps or
 // in periodic time.
-SliceVolumes refine_and_slice(const domain::LabelImage4& image, double delta, bool periodic) {
+SliceVolumes refine_and_slice(const domain::LabelImage4& image, double delta, bool periodic,
+                              bool sag_offset) {
   const auto result = run_in_child<SliceVolumes>([&] {
     domain::LabelImage4 meshed = image;
     meshed.set_time_spacing(domain::automatic_time_scale(image, delta, periodic));
     domain::clean_segmentation(meshed, domain::kDefaultMinIslandVoxels);
     refine::RefineParams params;
     params.delta = delta;
+    params.sag_offset = sag_offset;
     std::vector<std::string> warnings;
     const auto r = periodic ? refine::refine_periodic(meshed, params, nullptr, &warnings)
                             : refine::refine_with_time_caps(meshed, params, nullptr, &warnings);
@@ -60,13 +62,13 @@ double percent_error(double v, double reference) {
 }  // namespace
 
 FramesSummary compare_with_mesh3_frames(const char* name, const domain::LabelImage4& image,
-                                        double delta, bool print_frames) {
+                                        double delta, bool print_frames, bool sag_offset) {
   const auto& d = image.dims();
   const auto& s = image.spacing();
   const double voxel = s[0] * s[1] * s[2];
   FramesSummary summary;
-  const SliceVolumes ours[2] = {refine_and_slice(image, delta, false),
-                                refine_and_slice(image, delta, true)};
+  const SliceVolumes ours[2] = {refine_and_slice(image, delta, false, sag_offset),
+                                refine_and_slice(image, delta, true, sag_offset)};
   if (!ours[0].ok || !ours[1].ok) {
     std::printf("%s: a 4D run failed\n", name);
     return summary;

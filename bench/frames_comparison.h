@@ -27,9 +27,10 @@ struct FramesSummary {
   double time_scale[2] = {};
 };
 
-/// Meshes `image` both ways; prints the per-frame table when `print_frames`. Labels 1 and 2.
+/// Meshes `image` both ways (mesh4d with or without its sag offset); prints the per-frame table
+/// when `print_frames`. Labels 1 and 2.
 FramesSummary compare_with_mesh3_frames(const char* name, const domain::LabelImage4& image,
-                                        double delta, bool print_frames);
+                                        double delta, bool print_frames, bool sag_offset);
 
 /// One row per image: the mean and worst frame per label, mesh4d beside Mesh_3.
 void print_frames_summaries(const std::vector<std::pair<std::string, FramesSummary>>& rows,

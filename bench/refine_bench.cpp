@@ -166,6 +166,8 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
 // seeds show how much of a difference between two builds is the mesh's and how much the code's).
 // --seeds A,B,C: each row once per seed, then a table of the rates' medians over the seeds.
 std::string g_only;
+// --sag-offset off: every boundary vertex left on ∂Ω (refine/facet_sag.h), for comparison.
+bool g_sag_offset = true;
 double g_junction_spacing = refine::RefineParams{}.junction_spacing;
 std::uint64_t g_seed = refine::RefineParams{}.seed;
 std::vector<std::uint64_t> g_seeds;
@@ -185,6 +187,7 @@ bool mesh_row(const std::string& name, const domain::LabelImage4& image, double 
   params.rule_order = order;
   params.junction_spacing = g_junction_spacing;
   params.seed = seed;
+  params.sag_offset = g_sag_offset;
   const Flat f = run_child(image, params);
   if (!f.ok) {
     std::printf("| %s | run failed |\n", name.c_str());
@@ -257,6 +260,7 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--time-caps") == 0) g_time_caps = std::strcmp(argv[i + 1], "off");
     if (std::strcmp(argv[i], "--time") == 0) g_periodic = !std::strcmp(argv[i + 1], "periodic");
     if (std::strcmp(argv[i], "--only") == 0) g_only = argv[i + 1];
+    if (std::strcmp(argv[i], "--sag-offset") == 0) g_sag_offset = std::strcmp(argv[i + 1], "off");
     if (std::strcmp(argv[i], "--min-island-voxels") == 0)
       g_min_island_voxels = std::strtoull(argv[i + 1], nullptr, 10);
     if (std::strcmp(argv[i], "--junction-spacing") == 0)
@@ -276,9 +280,12 @@ int main(int argc, char** argv) {
     if (k > 0) seeds.push_back(',');
     seeds.append(std::to_string(g_seeds[k]));
   }
-  std::printf("Sequential refinement (R1-R5), one thread, junction spacing %g delta, %s, %s time\n",
-              g_junction_spacing, seeds.c_str(),
-              g_periodic ? "periodic" : (g_time_caps ? "open (time caps)" : "open (no caps)"));
+  std::printf(
+      "Sequential refinement (R1-R5), one thread, junction spacing %g delta, %s, %s time, sag "
+      "offset %s\n",
+      g_junction_spacing, seeds.c_str(),
+      g_periodic ? "periodic" : (g_time_caps ? "open (time caps)" : "open (no caps)"),
+      g_sag_offset ? "on" : "off");
   std::printf(
       "| input | rule order | δ | pentatopes | boundary tets | vertices | shortest edge | "
       "radius-edge max / mean / std | normalized volume min / mean / std | time s | "
@@ -329,13 +336,13 @@ int main(int argc, char** argv) {
       const std::string name = "Pat0" + std::to_string(patient);
       const std::string file = dir + "/" + name + "_mse4d_label4d.nii.gz";
       if (!std::ifstream(file)) break;
-      summaries.emplace_back(name,
-                             mesh4d::bench::compare_with_mesh3_frames(
-                                 name.c_str(), domain::read_label_image(file), 5, patient == 1));
+      summaries.emplace_back(
+          name, mesh4d::bench::compare_with_mesh3_frames(
+                    name.c_str(), domain::read_label_image(file), 5, patient == 1, g_sag_offset));
     }
-    summaries.emplace_back("ventricle",
-                           mesh4d::bench::compare_with_mesh3_frames(
-                               "ventricle", domain::beating_ventricle_phantom(), 5, false));
+    summaries.emplace_back(
+        "ventricle", mesh4d::bench::compare_with_mesh3_frames(
+                         "ventricle", domain::beating_ventricle_phantom(), 5, false, g_sag_offset));
     mesh4d::bench::print_frames_summaries(summaries, 5);
   }
   return 0;
