@@ -75,6 +75,7 @@ struct Flat {
   bool ok;
   std::uint64_t manifold_points, manifold_rounds;            // the manifold sampling's
   std::uint64_t pieces_removed, pieces_bridged, pieces_cut;  // the piece matching's
+  double sag_seconds, largest_offset;                        // the sag offset's
 };
 
 Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& params) {
@@ -128,7 +129,9 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
              static_cast<std::uint64_t>(r.manifold_rounds),
              r.pieces_removed,
              r.pieces_bridged,
-             r.pieces_cut};
+             r.pieces_cut,
+             r.sag.seconds,
+             r.sag.largest_offset};
     for (auto n : r.stats.insertions) out.insertions += n;
     // The certificate a job computes after refinement (not in the rate: timed on its own).
     const auto t0 = std::chrono::steady_clock::now();
@@ -196,7 +199,8 @@ bool mesh_row(const std::string& name, const domain::LabelImage4& image, double 
   *rate = f.pentatopes / f.seconds;
   std::printf(
       "| %s | %s | %g | %llu | %llu | %llu | %.2f | %.2f / %.2f / %.2f | %.4f / %.2f / %.2f | "
-      "%.2f | %.0f | %llu | %.0f | %llu | %llu | %llu | %.2f | %llu (%llu) | %llu / %llu / %llu "
+      "%.2f | %.0f | %llu | %.0f | %llu | %llu | %llu | %.2f | %.2f (%.2f) | %llu (%llu) | %llu / "
+      "%llu / %llu "
       "| %llu / %llu / %llu | "
       "%llu / %llu / "
       "%llu | "
@@ -207,14 +211,15 @@ bool mesh_row(const std::string& name, const domain::LabelImage4& image, double 
       (unsigned long long)f.vertices, f.shortest, f.rho_max, f.rho_mean, f.rho_std, f.tau_min,
       f.tau_mean, f.tau_std, f.seconds, f.pentatopes / f.seconds, (unsigned long long)f.insertions,
       f.peak_mb, (unsigned long long)f.off_surface, (unsigned long long)f.pinched,
-      (unsigned long long)f.relabeled, f.repair_seconds, (unsigned long long)f.manifold_points,
-      (unsigned long long)f.manifold_rounds, (unsigned long long)f.pieces_removed,
-      (unsigned long long)f.pieces_bridged, (unsigned long long)f.pieces_cut,
-      (unsigned long long)f.pieces, (unsigned long long)f.touching,
-      (unsigned long long)f.image_pieces, (unsigned long long)f.nm_vertices,
-      (unsigned long long)f.nm_edges, (unsigned long long)f.nm_triangles, f.volume_ratio,
-      f.worst_frame_error, f.mesh_to_image_max, f.image_to_mesh_max, f.certificate_seconds,
-      f.distance_seconds, (unsigned long long)f.fingerprint);
+      (unsigned long long)f.relabeled, f.repair_seconds, f.sag_seconds, f.largest_offset,
+      (unsigned long long)f.manifold_points, (unsigned long long)f.manifold_rounds,
+      (unsigned long long)f.pieces_removed, (unsigned long long)f.pieces_bridged,
+      (unsigned long long)f.pieces_cut, (unsigned long long)f.pieces,
+      (unsigned long long)f.touching, (unsigned long long)f.image_pieces,
+      (unsigned long long)f.nm_vertices, (unsigned long long)f.nm_edges,
+      (unsigned long long)f.nm_triangles, f.volume_ratio, f.worst_frame_error, f.mesh_to_image_max,
+      f.image_to_mesh_max, f.certificate_seconds, f.distance_seconds,
+      (unsigned long long)f.fingerprint);
   std::fflush(stdout);
   return f.off_surface == 0 && f.pinched == 0 && f.rho_max <= params.radius_edge_bound &&
          f.tau_min >= params.sliver_bound;
@@ -290,13 +295,14 @@ int main(int argc, char** argv) {
       "| input | rule order | δ | pentatopes | boundary tets | vertices | shortest edge | "
       "radius-edge max / mean / std | normalized volume min / mean / std | time s | "
       "pentatopes/s | insertions | peak MB | boundary vertex uses off ∂Ω | pinched triangles "
-      "| relabeled pentatopes | of the time, pinch repair s | manifold sampling points (rounds) "
+      "| relabeled pentatopes | of the time, pinch repair s | of the time, sag offset s (largest "
+      "offset) | manifold sampling points (rounds) "
       "| pieces removed / bridged / cut | mesh pieces / touching another / "
       "image pieces (all labels) | non-manifold vertices / edges / triangles | 4-volume / voxels "
       "| worst frame volume error | boundary distance max, mesh → image / image → mesh | "
       "certificate s (of which the distance) | mesh fingerprint "
       "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
-      "---|---|---|---|\n");
+      "---|---|---|---|---|\n");
   const auto sphere = domain::hypersphere_phantom({32, 32, 32, 32}, {1, 1, 1, 1}, 12);
   row("hypersphere r=12", sphere, 2, refine::RuleOrder::r3_first);
   row("hypersphere r=12", sphere, 2, refine::RuleOrder::paper);

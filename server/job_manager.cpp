@@ -592,13 +592,19 @@ void JobManager::run(const std::string& id) {
   }
   params.threads = share.threads;
   params.thread_budget = share.budget;
-  // Whatever way the job ends, its cores go to the others.
+  // Whatever way the job ends, its cores go to the others: before its end state is published
+  // (now(), under mu_), so that whoever sees the job ended sees the others' new shares too.
   struct Release {
     JobManager& manager;
     const CoreAllocator::Share& share;
+    bool done = false;
+    void now() {
+      if (!done) manager.cores_.finish(share, manager.queue_.size());
+      done = true;
+    }
     ~Release() {
       std::lock_guard lock(manager.mu_);
-      manager.cores_.finish(share, manager.queue_.size());
+      now();
     }
   } release{*this, share};
   log_job(spdlog::level::info, id,
@@ -639,6 +645,7 @@ void JobManager::run(const std::string& id) {
     v1::JobEvent finished;
     *finished.mutable_finished() = entry->job.stats();
     publish(*entry, std::move(finished));
+    release.now();
     set_state(*entry, v1::JOB_STATE_SUCCEEDED);
     log_job(spdlog::level::info, id,
             "succeeded: {} pentatopes in {:.2f} s ({} relabeled to close pinches where labels "
@@ -660,6 +667,7 @@ void JobManager::run(const std::string& id) {
   log_job(spdlog::level::debug, id, "error in full: {}", error);
   error = without_paths(error);
   entry->job.set_error(error);
+  release.now();
   set_state(*entry, end);
   log_job(spdlog::level::info, id, "{}: {}", v1::JobState_Name(end), error);
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -23,7 +24,8 @@ using Vec = std::array<double, 4>;
 constexpr double kMeanDepthRatio = 1.0 - 1.0 / 5.0;
 constexpr std::size_t kMinShare = 4096;  // facets or pentatopes per thread, at least
 constexpr int kHalvings = 4;             // then a move that still spoils a pentatope is dropped
-constexpr int kBisections = 40;
+constexpr int kFalsePositionSteps = 30;  // at most, to kSagTolerance of the circumradius
+constexpr double kSagTolerance = 1e-6;
 
 double dot(const Vec& a, const Vec& b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
@@ -102,37 +104,51 @@ FacetSag measure(const mesh::Mesh4& mesh, const mesh::BoundaryTetrahedron& b,
     for (int a = 0; a < 4; ++a) q[a] = center[a] + s * n[a];
     return oracle.cut_value(q, hi, lo);
   };
-  double s0 = -radius, s1 = radius, f0 = cut(s0);
-  if ((f0 > 0) == (cut(s1) > 0)) return out;
-  for (int i = 0; i < kBisections; ++i) {
-    const double m = (s0 + s1) / 2, fm = cut(m);
-    if ((fm > 0) == (f0 > 0))
-      s0 = m, f0 = fm;
-    else
-      s1 = m;
+  double s0 = -radius, s1 = radius, f0 = cut(s0), f1 = cut(s1), sag = s1;
+  if ((f0 > 0) == (f1 > 0)) return out;
+  // Regula falsi with the Illinois step (the cut function is smooth along the line between voxel
+  // planes): a few evaluations where bisection takes thirty.
+  for (int i = 0; i < kFalsePositionSteps && std::abs(s1 - s0) > kSagTolerance * radius; ++i) {
+    sag = (s0 * f1 - s1 * f0) / (f1 - f0);
+    const double f = cut(sag);
+    if (f == 0) break;
+    if ((f > 0) == (f1 > 0)) {
+      f0 /= 2;
+    } else {
+      s0 = s1, f0 = f1;
+    }
+    s1 = sag, f1 = f;
   }
   out.normal = n;
   out.volume = length / 6;
-  out.sag = (s0 + s1) / 2;
+  out.sag = sag;
   out.measured = true;
   return out;
 }
 
 // Whether a pentatope with corners moved is still as good as the refinement left it: positively
 // oriented (exactly), no sliver it was not, and no radius-edge ratio past the bound it was not.
-bool still_good(const delaunay::Simplex4& before, const delaunay::Simplex4& after,
+struct Quality {
+  double tau = 0, rho = 0;  // normalized volume, radius-edge ratio
+};
+
+Quality quality(const delaunay::Simplex4& s) {
+  return {delaunay::normalized_volume(s), delaunay::radius_edge_ratio(s)};
+}
+
+bool still_good(const Quality& before, const delaunay::Simplex4& after,
                 const RefineParams& params) {
   if (delaunay::orient4(after[0], after[1], after[2], after[3], after[4]) <= 0) return false;
-  const double tau = delaunay::normalized_volume(after);
-  if (tau < params.sliver_bound && tau < delaunay::normalized_volume(before)) return false;
-  const double rho = delaunay::radius_edge_ratio(after);
-  return rho < params.radius_edge_bound || rho <= delaunay::radius_edge_ratio(before);
+  const Quality now = quality(after);
+  if (now.tau < params.sliver_bound && now.tau < before.tau) return false;
+  return now.rho < params.radius_edge_bound || now.rho <= before.rho;
 }
 
 }  // namespace
 
 SagOffset offset_facet_sag(mesh::Mesh4& mesh, const domain::SurfaceOracle& oracle,
                            const RefineParams& params) {
+  const auto start = std::chrono::steady_clock::now();
   SagOffset report;
   const std::size_t nv = mesh.vertices.size();
   const std::vector<std::uint32_t> glued = mesh::glued_vertex_ids(mesh);
@@ -219,31 +235,48 @@ SagOffset offset_facet_sag(mesh::Mesh4& mesh, const domain::SurfaceOracle& oracl
       for (int a = 0; a < 4; ++a) mesh.vertices[v][a] = before[v][a] + k * offset[glued[v]][a];
     }
   };
-  std::vector<char> spoiled(touched.size());
-  for (int round = 0;; ++round) {
+  // Each round checks the pentatopes whose corners moved differently in the last one.
+  std::vector<Quality> was(touched.size());
+  std::vector<char> spoiled(touched.size()), changed(nv, 1);
+  std::vector<std::uint32_t> check(touched.size());
+  for (std::uint32_t i = 0; i < touched.size(); ++i) check[i] = i;
+  for (int round = 0; !check.empty(); ++round) {
     place();
-    const unsigned check_parts = support::parts_for(touched.size(), kMinShare, threads);
+    const unsigned check_parts = support::parts_for(check.size(), kMinShare, threads);
     support::run_parts(check_parts, [&](unsigned p) {
-      const auto [begin, end] = support::part_range(touched.size(), p, check_parts);
-      for (std::size_t i = begin; i < end; ++i) {
-        delaunay::Simplex4 was, is;
+      const auto [begin, end] = support::part_range(check.size(), p, check_parts);
+      for (std::size_t c = begin; c < end; ++c) {
+        const std::uint32_t i = check[c];
+        delaunay::Simplex4 is;
         for (int k = 0; k < 5; ++k) {
           const std::uint32_t v = mesh.pentatopes[touched[i]][k];
-          was[k] = before[v], is[k] = mesh.vertices[v];
+          is[k] = mesh.vertices[v];
         }
-        spoiled[i] = !still_good(was, is, params);
+        if (round == 0) {
+          delaunay::Simplex4 original;
+          for (int k = 0; k < 5; ++k) original[k] = before[mesh.pentatopes[touched[i]][k]];
+          was[i] = quality(original);
+        }
+        spoiled[i] = !still_good(was[i], is, params);
       }
     });
-    bool any = false;
-    for (std::size_t i = 0; i < touched.size(); ++i) {
+    std::fill(changed.begin(), changed.end(), 0);
+    for (std::uint32_t i : check) {
       if (!spoiled[i]) continue;
-      any = true;
       for (std::uint32_t v : mesh.pentatopes[touched[i]]) {
         double& k = scale[glued[v]];
+        if (k == 0) continue;
         k = round < kHalvings ? k / 2 : 0;
+        changed[glued[v]] = 1;
       }
     }
-    if (!any) break;
+    check.clear();
+    for (std::uint32_t i = 0; i < touched.size(); ++i)
+      for (std::uint32_t v : mesh.pentatopes[touched[i]])
+        if (changed[glued[v]]) {
+          check.push_back(i);
+          break;
+        }
   }
   for (std::uint32_t v : moving) {
     report.held += scale[v] < 1;
@@ -252,6 +285,7 @@ SagOffset offset_facet_sag(mesh::Mesh4& mesh, const domain::SurfaceOracle& oracl
     report.largest_offset =
         std::max(report.largest_offset, scale[v] * std::sqrt(dot(offset[v], offset[v])));
   }
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }
 

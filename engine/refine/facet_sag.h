@@ -26,6 +26,7 @@ struct SagOffset {
   std::size_t held = 0;       // moves cut short or dropped for a pentatope's quality
   double mean_sag = 0;        // of the facets, |sag| weighted by area, physical units
   double largest_offset = 0;  // of any vertex
+  double seconds = 0;         // the whole step, wall clock
 };
 
 /// Offsets the boundary vertices of `mesh` that lie on one interface only (junctions and the

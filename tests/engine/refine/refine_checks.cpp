@@ -71,11 +71,17 @@ void expect_fidelity(const mesh::Mesh4& m, const domain::SurfaceOracle& oracle,
       for (auto l : labels) weights.push_back(oracle.cut_value(m.vertices[v], l, 65535));
       std::sort(weights.rbegin(), weights.rend());
       if (weights[0] - weights[1] <= 1e-6) continue;
-      // Off ∂Ω: only as far as the sag offset moved it.
-      const domain::SurfacePoint z = oracle.closest_surface_point(m.vertices[v]);
-      const double d = distance(z.point, m.vertices[v]);
+      // Off ∂Ω: only as far as the sag offset moved it. Both closest-point searches give an upper
+      // bound (the descent can stop at a farther point where ∂Ω folds, as between two close
+      // gaps), hence the nearer of the two and a tenth of slack.
+      double d = std::numeric_limits<double>::infinity();
+      for (auto mode :
+           {domain::SurfaceOracle::CfpMode::descent, domain::SurfaceOracle::CfpMode::ray}) {
+        const domain::SurfacePoint z = oracle.closest_surface_point(m.vertices[v], mode);
+        if (z.inner != z.outer) d = std::min(d, distance(z.point, m.vertices[v]));
+      }
       farthest = std::max(farthest, d);
-      off_surface += z.inner == z.outer || d > vertex_offset * (1 + 1e-6) + 1e-9;
+      off_surface += !(d <= 1.1 * vertex_offset + 1e-9);
     }
   std::printf("boundary vertices off ∂Ω: at most %.3f away (sag offset up to %.3f)\n", farthest,
               vertex_offset);
