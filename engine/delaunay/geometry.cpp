@@ -28,7 +28,62 @@ double det4(const double m[4][4]) {
          minor2(0, 1, 3) * minor2(2, 0, 2) + minor2(0, 2, 3) * minor2(2, 0, 1);
 }
 
+double det3(const double a[3], const double b[3], const double c[3]) {
+  return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+         a[2] * (b[0] * c[1] - b[1] * c[0]);
+}
+
+double dot4(const double a[4], const double b[4]) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
+}
+
+void facet_edges(const Tetrahedron4& f, double e[3][4]) {
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 4; ++k) e[r][k] = f[r + 1][k] - f[0][k];
+}
+
 }  // namespace
+
+Point4 hyperplane_normal(const Tetrahedron4& f) {
+  // Cofactor expansion of det[e₁; e₂; e₃; u] along its last row: n_k = (−1)^(3+k) · the minor
+  // without column k.
+  double e[3][4];
+  facet_edges(f, e);
+  Point4 n;
+  for (int k = 0; k < 4; ++k) {
+    int c[3], m = 0;
+    for (int j = 0; j < 4; ++j)
+      if (j != k) c[m++] = j;
+    double rows[3][3];
+    for (int r = 0; r < 3; ++r)
+      for (int j = 0; j < 3; ++j) rows[r][j] = e[r][c[j]];
+    const double minor = det3(rows[0], rows[1], rows[2]);
+    n[k] = (3 + k) % 2 == 0 ? minor : -minor;
+  }
+  return n;
+}
+
+Point4 facet_circumcenter(const Tetrahedron4& f) {
+  // f₀ + Σ x_r e_r with e_r · (c − f₀) = |e_r|²/2: the Gram system, by Cramer's rule.
+  double e[3][4];
+  facet_edges(f, e);
+  double g[3][3], b[3];
+  for (int r = 0; r < 3; ++r) {
+    for (int s = 0; s < 3; ++s) g[r][s] = dot4(e[r], e[s]);
+    b[r] = 0.5 * g[r][r];
+  }
+  const double det = det3(g[0], g[1], g[2]);
+  double x[3];
+  for (int r = 0; r < 3; ++r) {
+    double m[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) m[i][j] = j == r ? b[i] : g[i][j];
+    x[r] = det3(m[0], m[1], m[2]) / det;
+  }
+  Point4 c;
+  for (int k = 0; k < 4; ++k) c[k] = f[0][k] + x[0] * e[0][k] + x[1] * e[1][k] + x[2] * e[2][k];
+  return c;
+}
 
 Point4 circumcenter(const Simplex4& s) {
   // Relative to s[0]: 2 (p_i - p_0) · c' = |p_i - p_0|², c = p_0 + c'. Working relative to a

@@ -10,6 +10,8 @@
 namespace mesh4d::delaunay {
 
 using Simplex4 = std::array<Point4, 5>;
+/// A pentatope's facet: four points spanning a hyperplane of R⁴.
+using Tetrahedron4 = std::array<Point4, 4>;
 
 /// Center of the 3-sphere through the five vertices. For a flat simplex (no unique sphere) every
 /// coordinate is infinite.
@@ -34,5 +36,13 @@ double signed_volume(const Simplex4& s);
 double normalized_volume(const Simplex4& s);
 /// The same from a circumradius already computed (circumradius(s), for the same result).
 double normalized_volume(const Simplex4& s, double circumradius);
+
+/// Normal of the facet's hyperplane: the 4D cross product n of the edges eᵢ = pᵢ − p₀, so that
+/// det[e₁; e₂; e₃; u − p₀] = n · (u − p₀). |n| is six times the facet's 3-volume.
+Point4 hyperplane_normal(const Tetrahedron4& f);
+
+/// Center of the facet's circumsphere within its own hyperplane. For a flat facet the
+/// coordinates are not finite.
+Point4 facet_circumcenter(const Tetrahedron4& f);
 
 }  // namespace mesh4d::delaunay

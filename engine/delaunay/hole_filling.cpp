@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "delaunay/facet_key.h"
+#include "delaunay/geometry.h"
 #include "delaunay/predicates.h"
 
 namespace mesh4d::delaunay {
@@ -94,38 +95,14 @@ class ApexSearch {
       if (i != slot) f_[k++] = &store.point(a[i]);
     // orient4(a with u at slot) = ±det[f1-f0; f2-f0; f3-f0; u-f0] (moving the slot last is a
     // cyclic shift over 4 - slot places) = normal_ · (u - f0).
-    double e[3][4];
-    for (int r = 0; r < 3; ++r)
-      for (int k = 0; k < 4; ++k) e[r][k] = (*f_[r + 1])[k] - (*f_[0])[k];
+    const Tetrahedron4 facet{*f_[0], *f_[1], *f_[2], *f_[3]};
     const double sign = (4 - slot) % 2 == 0 ? 1 : -1;
-    for (int k = 0; k < 4; ++k) {
-      int c[3], m = 0;
-      for (int j = 0; j < 4; ++j)
-        if (j != k) c[m++] = j;
-      double rows[3][3];
-      for (int r = 0; r < 3; ++r)
-        for (int j = 0; j < 3; ++j) rows[r][j] = e[r][c[j]];
-      const double minor = det3(rows[0], rows[1], rows[2]);
-      normal_[k] = sign * ((3 + k) % 2 == 0 ? minor : -minor);
-    }
-    // The facet's circumcenter in its own hyperplane: f0 + Σ x_r e_r with Gram · x = |e_r|²/2.
-    double g[3][3], b[3];
-    for (int r = 0; r < 3; ++r) {
-      for (int s = 0; s < 3; ++s) g[r][s] = dot(e[r], e[s]);
-      b[r] = 0.5 * g[r][r];
-    }
-    const double det = det3(g[0], g[1], g[2]);
-    double x[3];
-    for (int r = 0; r < 3; ++r) {
-      double m[3][3];
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) m[i][j] = j == r ? b[i] : g[i][j];
-      x[r] = det3(m[0], m[1], m[2]) / det;
-    }
-    for (int k = 0; k < 4; ++k)
-      center_[k] = (*f_[0])[k] + x[0] * e[0][k] + x[1] * e[1][k] + x[2] * e[2][k];
+    const Point4 n = hyperplane_normal(facet);
+    for (int k = 0; k < 4; ++k) normal_[k] = sign * n[k];
+    center_ = facet_circumcenter(facet);
     radius2_ = squared_distance(center_, *f_[0]);
-    scale_ = std::sqrt(std::max({dot(e[0], e[0]), dot(e[1], e[1]), dot(e[2], e[2])}));
+    scale_ = std::sqrt(std::max({squared_distance(*f_[1], *f_[0]), squared_distance(*f_[2], *f_[0]),
+                                 squared_distance(*f_[3], *f_[0])}));
     normal_norm_ = std::sqrt(dot(normal_, normal_));
     ok_ = std::isfinite(radius2_) && normal_norm_ > 0;
   }
@@ -168,10 +145,6 @@ class ApexSearch {
  private:
   static double dot(const double a[4], const double b[4]) {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
-  }
-  static double det3(const double a[3], const double b[3], const double c[3]) {
-    return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-           a[2] * (b[0] * c[1] - b[1] * c[0]);
   }
   const Point4* f_[4];
   double normal_[4];

@@ -35,20 +35,6 @@ Vec minus(const Point4& a, const Point4& b) {
   return {a[0] - b[0], a[1] - b[1], a[2] - b[2], a[3] - b[3]};
 }
 
-double det3(double a, double b, double c, double d, double e, double f, double g, double h,
-            double i) {
-  return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
-}
-
-// The normal of the hyperplane through a tetrahedron's edge vectors u, v, w (their 4D cross
-// product), of length six times the tetrahedron's volume.
-Vec cross(const Vec& u, const Vec& v, const Vec& w) {
-  return {det3(u[1], u[2], u[3], v[1], v[2], v[3], w[1], w[2], w[3]),
-          -det3(u[0], u[2], u[3], v[0], v[2], v[3], w[0], w[2], w[3]),
-          det3(u[0], u[1], u[3], v[0], v[1], v[3], w[0], w[1], w[3]),
-          -det3(u[0], u[1], u[2], v[0], v[1], v[2], w[0], w[1], w[2])};
-}
-
 // One restricted facet's measure: its unit normal from the lower label to the higher, its
 // volume, and the signed distance along that normal from its circumcenter to ∂Ω (positive: the
 // surface lies on the higher label's side, so the facet cuts into the lower label).
@@ -62,11 +48,10 @@ struct FacetSag {
 FacetSag measure(const mesh::Mesh4& mesh, const mesh::BoundaryTetrahedron& b,
                  const domain::SurfaceOracle& oracle) {
   FacetSag out;
-  const Point4& p0 = mesh.vertices[b.vertices[0]];
-  const Vec e[3] = {minus(mesh.vertices[b.vertices[1]], p0),
-                    minus(mesh.vertices[b.vertices[2]], p0),
-                    minus(mesh.vertices[b.vertices[3]], p0)};
-  Vec n = cross(e[0], e[1], e[2]);
+  const delaunay::Tetrahedron4 facet{mesh.vertices[b.vertices[0]], mesh.vertices[b.vertices[1]],
+                                     mesh.vertices[b.vertices[2]], mesh.vertices[b.vertices[3]]};
+  const Point4& p0 = facet[0];
+  Vec n = delaunay::hyperplane_normal(facet);
   const double length = std::sqrt(dot(n, n));
   if (!(length > 0)) return out;
   for (double& c : n) c /= length;
@@ -80,22 +65,9 @@ FacetSag measure(const mesh::Mesh4& mesh, const mesh::BoundaryTetrahedron& b,
   const bool flip = (dot(n, minus(mesh.vertices[apex], p0)) > 0) != inner_higher;
   if (flip)
     for (double& c : n) c = -c;
-  // The circumcenter within the facet's hyperplane: p0 + Σ λᵢ eᵢ with eᵢ·(c − p0) = |eᵢ|²/2.
-  double g[3][3], rhs[3];
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) g[i][j] = dot(e[i], e[j]);
-    rhs[i] = g[i][i] / 2;
-  }
-  const double d =
-      det3(g[0][0], g[0][1], g[0][2], g[1][0], g[1][1], g[1][2], g[2][0], g[2][1], g[2][2]);
-  if (!(std::abs(d) > 0)) return out;
-  const double l[3] = {
-      det3(rhs[0], g[0][1], g[0][2], rhs[1], g[1][1], g[1][2], rhs[2], g[2][1], g[2][2]) / d,
-      det3(g[0][0], rhs[0], g[0][2], g[1][0], rhs[1], g[1][2], g[2][0], rhs[2], g[2][2]) / d,
-      det3(g[0][0], g[0][1], rhs[0], g[1][0], g[1][1], rhs[1], g[2][0], g[2][1], rhs[2]) / d};
-  Point4 center;
-  for (int a = 0; a < 4; ++a) center[a] = p0[a] + l[0] * e[0][a] + l[1] * e[1][a] + l[2] * e[2][a];
+  const Point4 center = delaunay::facet_circumcenter(facet);
   const double radius = std::sqrt(dot(minus(center, p0), minus(center, p0)));
+  if (!std::isfinite(radius)) return out;
   // The dual Voronoi edge is the line through the circumcenter along the normal; its crossing
   // with the facet's own interface within a circumradius is the surface ball's center.
   const domain::Label hi = inner_higher ? b.inner : b.outer, lo = inner_higher ? b.outer : b.inner;

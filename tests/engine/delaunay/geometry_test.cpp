@@ -56,5 +56,36 @@ TEST(Geometry, FlatSimplexHasZeroNormalizedVolumeAndInfiniteRadius) {
   EXPECT_EQ(signed_volume(s), 0.0);
 }
 
+TEST(Geometry, FacetNormalGivesTheOrientationDeterminant) {
+  const Tetrahedron4 f{{{0.1, 0.2, 0.3, 0.4}, {1.3, 0.1, 0.2, 0.5}, {0.2, 1.1, 0.3, 0.1},
+                        {0.4, 0.3, 1.7, 0.2}}};
+  const Point4 u{0.3, 0.2, 0.1, 0.9};
+  const Point4 n = hyperplane_normal(f);
+  // n · (u − f₀) = det[f₁−f₀; f₂−f₀; f₃−f₀; u−f₀] = 24 · the signed volume of (f, u).
+  double height = 0;
+  for (int k = 0; k < 4; ++k) height += n[k] * (u[k] - f[0][k]);
+  EXPECT_NEAR(height, 24 * signed_volume({f[0], f[1], f[2], f[3], u}), 1e-12);
+  // Normal to every edge of the facet.
+  for (int i = 1; i < 4; ++i) {
+    double along = 0;
+    for (int k = 0; k < 4; ++k) along += n[k] * (f[i][k] - f[0][k]);
+    EXPECT_NEAR(along, 0, 1e-12);
+  }
+}
+
+TEST(Geometry, FacetCircumcenterIsEquidistantWithinItsHyperplane) {
+  const Tetrahedron4 f{{{0.1, 0.2, 0.3, 0.4}, {1.3, 0.1, 0.2, 0.5}, {0.2, 1.1, 0.3, 0.1},
+                        {0.4, 0.3, 1.7, 0.2}}};
+  const Point4 c = facet_circumcenter(f);
+  const Point4 n = hyperplane_normal(f);
+  double off_plane = 0;
+  for (int k = 0; k < 4; ++k) off_plane += n[k] * (c[k] - f[0][k]);
+  EXPECT_NEAR(off_plane, 0, 1e-12);
+  for (const Point4& p : f) EXPECT_NEAR(distance(c, p), distance(c, f[0]), 1e-12);
+  // A flat facet has no circumcenter.
+  const Tetrahedron4 flat{{{0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {1, 1, 0, 0}}};
+  EXPECT_FALSE(std::isfinite(facet_circumcenter(flat)[0]));
+}
+
 }  // namespace
 }  // namespace mesh4d::delaunay
