@@ -28,7 +28,7 @@ int run_status(const GlobalOptions& global, const std::string& id) {
   std::cout << "  delta " << job.params().delta() << ", time scale " << job.params().time_scale()
             << " per frame, "
             << (job.params().time_topology() == v1::TIME_TOPOLOGY_PERIODIC ? "periodic" : "open")
-            << " time\n";
+            << " time, sag offset " << (job.params().sag_offset() ? "on" : "off") << "\n";
   if (job.state() == v1::JOB_STATE_SUCCEEDED) print_stats(std::cout, job.stats());
   for (const auto& w : job.warnings()) std::cout << "  warning: " << w << "\n";
   return kExitOk;

@@ -26,6 +26,7 @@ struct SubmitOptions {
   std::string params_file;
   double delta = 0, rho = 0, time_scale = 0;
   std::string time_topology;
+  std::string sag_offset;
   unsigned threads = 0;
   unsigned extend_time = 0;
   std::optional<unsigned> min_island_voxels;
@@ -54,6 +55,7 @@ void fill_params(const SubmitOptions& o, v1::RefineParams* p) {
   if (o.time_scale) p->set_time_scale(o.time_scale);
   if (o.time_topology == "periodic") p->set_time_topology(v1::TIME_TOPOLOGY_PERIODIC);
   if (o.time_topology == "open") p->set_time_topology(v1::TIME_TOPOLOGY_OPEN);
+  if (!o.sag_offset.empty()) p->set_sag_offset(o.sag_offset == "on");
   if (o.strict) p->set_strict(true);
   if (o.min_island_voxels) p->set_min_island_voxels(*o.min_island_voxels);
 }
@@ -139,6 +141,10 @@ void setup_submit_command(CLI::App& app, const GlobalOptions& global, int* exit_
                   "open (default: the mesh spans the frames, flat caps at its ends) or periodic (a "
                   "cycle: the frame after the last is the first, the mesh closed in time)")
       ->check(CLI::IsMember({"open", "periodic"}));
+  cmd->add_option("--sag-offset", o->sag_offset,
+                  "on (default: boundary vertices move off the surface for their facets' sag, so "
+                  "that regions keep their volume) or off (every boundary vertex on the surface)")
+      ->check(CLI::IsMember({"on", "off"}));
   cmd->add_option("--name", o->name, "a name shown in listings (default: the file)");
   cmd->add_option("--request-id", o->request_id, "idempotency key (default: random)");
   cmd->add_flag("--wait", o->wait, "follow the job to its end (progress on stderr)");

@@ -45,6 +45,7 @@ refine::RefineParams to_engine(const v1::RefineParams& p) {
   if (p.seed() != 0) r.seed = p.seed();
   if (p.vertex_budget() != 0) r.vertex_budget = p.vertex_budget();
   if (p.threads() != 0) r.threads = p.threads();
+  if (p.has_sag_offset()) r.sag_offset = p.sag_offset();
   return r;
 }
 
@@ -69,6 +70,7 @@ v1::RefineParams to_proto(const refine::RefineParams& p, unsigned threads) {
   r.set_seed(p.seed);
   r.set_vertex_budget(p.vertex_budget);
   r.set_threads(threads);
+  r.set_sag_offset(p.sag_offset);
   return r;
 }
 

@@ -173,7 +173,8 @@ TEST(JobService, APeriodicCycleWithTheRealClient) {
   const std::string id = r.output.substr(0, r.output.find('\n'));
   const RunResult status =
       run_command({MESH4D_CLIENT_BIN, "--server", server.address(), "status", id});
-  EXPECT_NE(status.output.find("per frame, periodic time"), std::string::npos) << status.output;
+  EXPECT_NE(status.output.find("per frame, periodic time, sag offset on"), std::string::npos)
+      << status.output;
   const RunResult exported = run_command({MESH4D_CLIENT_BIN, "export", dir + "/cycle.m4d", "--mfem",
                                           dir + "/cycle.mfem", "--vtu", dir + "/vtu"});
   ASSERT_EQ(exported.exit_code, 0) << exported.output;
@@ -183,6 +184,29 @@ TEST(JobService, APeriodicCycleWithTheRealClient) {
   // Every whole time unit of the period: frames × time scale of them.
   const std::string slices = "wrote " + std::to_string(static_cast<int>(m.period)) + " slices";
   EXPECT_NE(exported.output.find(slices), std::string::npos) << exported.output;
+}
+
+// --sag-offset off: the job records it and reports no vertex moved off ∂Ω; a bad value is refused.
+TEST(JobService, TheSagOffsetTurnedOffWithTheRealClient) {
+  const std::string dir = make_temp_dir("mesh4d-on-surface");
+  RunningServer server(dir + "/data");
+  ASSERT_FALSE(server.address().empty());
+  domain::write_nifti(small_sphere(), dir + "/sphere.nii.gz");
+  const RunResult r = run_command(
+      {MESH4D_CLIENT_BIN, "--server", server.address(), "submit", dir + "/sphere.nii.gz", "--delta",
+       "3", "--sag-offset", "off", "--wait", "--out", dir + "/out.m4d"},
+      std::chrono::seconds(120));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("off the surface by at most 0 (sag offset)"), std::string::npos)
+      << r.output;
+  const std::string id = r.output.substr(0, r.output.find('\n'));
+  const RunResult status =
+      run_command({MESH4D_CLIENT_BIN, "--server", server.address(), "status", id});
+  EXPECT_NE(status.output.find("open time, sag offset off"), std::string::npos) << status.output;
+  const RunResult refused = run_command({MESH4D_CLIENT_BIN, "--server", server.address(), "submit",
+                                         dir + "/sphere.nii.gz", "--sag-offset", "maybe"});
+  EXPECT_NE(refused.exit_code, 0);
+  EXPECT_NE(refused.output.find("--sag-offset"), std::string::npos) << refused.output;
 }
 
 TEST(JobService, SubmitWatchFetchWithTheRealClient) {

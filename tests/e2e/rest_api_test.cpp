@@ -97,6 +97,19 @@ TEST(RestApi, SubmitFollowEventsDownloadTheMeshAndASlice) {
   const Http got = curl(dir, base + "/v1/jobs/" + id);
   ASSERT_EQ(got.status, 200);
   EXPECT_EQ(got.json()["state"], "JOB_STATE_SUCCEEDED");
+  EXPECT_EQ(got.json()["params"]["sag_offset"], true) << "the record names the default used";
+  EXPECT_GT(got.json()["stats"].value("boundary_offset", 0.0), 0.0);
+
+  // Without the sag offset (a query flag): every boundary vertex stays on ∂Ω.
+  const Http on_surface = curl(dir, base + "/v1/jobs?delta=2&threads=1&sag_offset=false",
+                               {"--data-binary", "@" + dir + "/sphere.nii.gz"});
+  ASSERT_EQ(on_surface.status, 201) << on_surface.body;
+  const std::string on_surface_id = on_surface.json()["job"]["id"];
+  EXPECT_EQ(on_surface.json()["job"]["params"]["sag_offset"], false);
+  curl(dir, base + "/v1/jobs/" + on_surface_id + "/events", {}, 300);  // until it ends
+  const Http offset_off = curl(dir, base + "/v1/jobs/" + on_surface_id);
+  EXPECT_EQ(offset_off.json()["state"], "JOB_STATE_SUCCEEDED");
+  EXPECT_EQ(offset_off.json()["stats"].value("boundary_offset", 0.0), 0.0);
   const Http listed = curl(dir, base + "/v1/jobs?state=succeeded");
   ASSERT_EQ(listed.status, 200);
   ASSERT_GE(listed.json()["jobs"].size(), 1u);

@@ -20,6 +20,8 @@ TEST(ProtoConvert, UnsetFieldsAreTheEnginesDefaults) {
   EXPECT_EQ(p.seed, defaults.seed);
   EXPECT_EQ(p.vertex_budget, defaults.vertex_budget);
   EXPECT_EQ(p.rule_order, refine::RuleOrder::r3_first);
+  EXPECT_TRUE(p.sag_offset);
+  EXPECT_TRUE(to_proto(p, 1).sag_offset()) << "the record says the offset was used";
 }
 
 TEST(ProtoConvert, SetFieldsPassThroughBothWays) {
@@ -33,7 +35,9 @@ TEST(ProtoConvert, SetFieldsPassThroughBothWays) {
   in.set_rule_order(v1::RULE_ORDER_PAPER);
   in.set_seed(77);
   in.set_vertex_budget(1234);
+  in.set_sag_offset(false);
   const refine::RefineParams p = to_engine(in);
+  EXPECT_FALSE(p.sag_offset);
   EXPECT_EQ(p.delta, 2.5);
   EXPECT_EQ(p.radius_edge_bound, 1.7);
   EXPECT_EQ(p.picking_ratio, 0.3);
@@ -48,6 +52,8 @@ TEST(ProtoConvert, SetFieldsPassThroughBothWays) {
   EXPECT_EQ(out.rule_order(), v1::RULE_ORDER_PAPER);
   EXPECT_EQ(out.seed(), 77u);
   EXPECT_EQ(out.threads(), 3u);
+  EXPECT_TRUE(out.has_sag_offset());
+  EXPECT_FALSE(out.sag_offset());
   EXPECT_EQ(to_proto(to_engine(v1::RefineParams{}), 1).rule_order(), v1::RULE_ORDER_R3_FIRST)
       << "the record names the order used, never UNSPECIFIED";
 }

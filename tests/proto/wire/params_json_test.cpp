@@ -29,7 +29,7 @@ TEST(ParamsJson, ReadsEveryFieldByItsName) {
   parse_params(R"({"delta": 2.5, "radius_edge_bound": 1.8, "picking_ratio": 0.4,
                    "picking_trials": 7, "sliver_bound": 0.02, "max_interior_radius": 9,
                    "seed": 18446744073709551615, "vertex_budget": 1000, "threads": 3,
-                   "extend_time_frames": 2, "rule_order": "paper"})",
+                   "extend_time_frames": 2, "rule_order": "paper", "sag_offset": false})",
                &p);
   EXPECT_EQ(p.delta(), 2.5);
   EXPECT_EQ(p.radius_edge_bound(), 1.8);
@@ -42,6 +42,9 @@ TEST(ParamsJson, ReadsEveryFieldByItsName) {
   EXPECT_EQ(p.threads(), 3u);
   EXPECT_EQ(p.extend_time_frames(), 2u);
   EXPECT_EQ(p.rule_order(), v1::RULE_ORDER_PAPER);
+  EXPECT_TRUE(p.has_sag_offset()) << "false is said, not left to the default";
+  EXPECT_FALSE(p.sag_offset());
+  EXPECT_NE(refusal(R"({"sag_offset": "maybe"})").find("sag_offset"), std::string::npos);
 }
 
 TEST(ParamsJson, TakesTheShortAndTheProtoNamesOfTheRuleOrders) {
