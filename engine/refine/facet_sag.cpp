@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "delaunay/geometry.h"
-#include "delaunay/predicates.h"
 #include "domain/periodic_time.h"
 #include "mesh/periodic_mesh.h"
+#include "refine/guarded_moves.h"
 #include "support/parallel_parts.h"
 
 namespace mesh4d::refine {
@@ -22,8 +22,7 @@ using Vec = std::array<double, 4>;
 // 4/5: the mean depth of a paraboloid under an inscribed regular tetrahedron, over the depth at
 // its circumcenter (E|x|² over a simplex centered at 0 is Σ|vᵢ|² / ((n+1)(n+2)) = ρ²/5 for n = 3).
 constexpr double kMeanDepthRatio = 1.0 - 1.0 / 5.0;
-constexpr std::size_t kMinShare = 4096;  // facets or pentatopes per thread, at least
-constexpr int kHalvings = 4;             // then a move that still spoils a pentatope is dropped
+constexpr std::size_t kMinShare = 4096;  // facets per thread, at least
 constexpr int kFalsePositionSteps = 30;  // at most, to kSagTolerance of the circumradius
 constexpr double kSagTolerance = 1e-6;
 
@@ -98,24 +97,6 @@ FacetSag measure(const mesh::Mesh4& mesh, const mesh::BoundaryTetrahedron& b,
   return out;
 }
 
-// Whether a pentatope with corners moved is still as good as the refinement left it: positively
-// oriented (exactly), no sliver it was not, and no radius-edge ratio past the bound it was not.
-struct Quality {
-  double tau = 0, rho = 0;  // normalized volume, radius-edge ratio
-};
-
-Quality quality(const delaunay::Simplex4& s) {
-  return {delaunay::normalized_volume(s), delaunay::radius_edge_ratio(s)};
-}
-
-bool still_good(const Quality& before, const delaunay::Simplex4& after,
-                const RefineParams& params) {
-  if (delaunay::orient4(after[0], after[1], after[2], after[3], after[4]) <= 0) return false;
-  const Quality now = quality(after);
-  if (now.tau < params.sliver_bound && now.tau < before.tau) return false;
-  return now.rho < params.radius_edge_bound || now.rho <= before.rho;
-}
-
 }  // namespace
 
 SagOffset offset_facet_sag(mesh::Mesh4& mesh, const domain::SurfaceOracle& oracle,
@@ -171,7 +152,7 @@ SagOffset offset_facet_sag(mesh::Mesh4& mesh, const domain::SurfaceOracle& oracl
     }
   }
   report.mean_sag = volume_sum > 0 ? sag_sum / volume_sum : 0;
-  std::vector<Vec> offset(nv, Vec{});
+  std::vector<Point4> offset(nv, Point4{});
   std::vector<std::uint32_t> moving;
   for (std::uint32_t v = 0; v < nv; ++v) {
     if (glued[v] != v || weight[v] == 0 || interface[v] >= kMany ||
@@ -191,65 +172,8 @@ SagOffset offset_facet_sag(mesh::Mesh4& mesh, const domain::SurfaceOracle& oracl
     if (mesh.periodic()) offset[v][3] = domain::snap_time(offset[v][3]);
     moving.push_back(v);
   }
-  // The pentatopes a move touches, and the moves' scales, halved where one spoils a pentatope.
-  std::vector<double> scale(nv, 0);
-  for (std::uint32_t v : moving) scale[v] = 1;
-  std::vector<std::uint32_t> touched;
-  for (std::uint32_t p = 0; p < mesh.pentatopes.size(); ++p)
-    for (std::uint32_t v : mesh.pentatopes[p])
-      if (scale[glued[v]] > 0) {
-        touched.push_back(p);
-        break;
-      }
-  const auto place = [&] {
-    for (std::uint32_t v = 0; v < nv; ++v) {
-      const double k = scale[glued[v]];
-      for (int a = 0; a < 4; ++a) mesh.vertices[v][a] = before[v][a] + k * offset[glued[v]][a];
-    }
-  };
-  // Each round checks the pentatopes whose corners moved differently in the last one.
-  std::vector<Quality> was(touched.size());
-  std::vector<char> spoiled(touched.size()), changed(nv, 1);
-  std::vector<std::uint32_t> check(touched.size());
-  for (std::uint32_t i = 0; i < touched.size(); ++i) check[i] = i;
-  for (int round = 0; !check.empty(); ++round) {
-    place();
-    const unsigned check_parts = support::parts_for(check.size(), kMinShare, threads);
-    support::run_parts(check_parts, [&](unsigned p) {
-      const auto [begin, end] = support::part_range(check.size(), p, check_parts);
-      for (std::size_t c = begin; c < end; ++c) {
-        const std::uint32_t i = check[c];
-        delaunay::Simplex4 is;
-        for (int k = 0; k < 5; ++k) {
-          const std::uint32_t v = mesh.pentatopes[touched[i]][k];
-          is[k] = mesh.vertices[v];
-        }
-        if (round == 0) {
-          delaunay::Simplex4 original;
-          for (int k = 0; k < 5; ++k) original[k] = before[mesh.pentatopes[touched[i]][k]];
-          was[i] = quality(original);
-        }
-        spoiled[i] = !still_good(was[i], is, params);
-      }
-    });
-    std::fill(changed.begin(), changed.end(), 0);
-    for (std::uint32_t i : check) {
-      if (!spoiled[i]) continue;
-      for (std::uint32_t v : mesh.pentatopes[touched[i]]) {
-        double& k = scale[glued[v]];
-        if (k == 0) continue;
-        k = round < kHalvings ? k / 2 : 0;
-        changed[glued[v]] = 1;
-      }
-    }
-    check.clear();
-    for (std::uint32_t i = 0; i < touched.size(); ++i)
-      for (std::uint32_t v : mesh.pentatopes[touched[i]])
-        if (changed[glued[v]]) {
-          check.push_back(i);
-          break;
-        }
-  }
+  const std::vector<double> scale =
+      move_guarded(mesh, before, glued, offset, moving, nullptr, params).scale;
   for (std::uint32_t v : moving) {
     report.held += scale[v] < 1;
     if (scale[v] == 0) continue;
