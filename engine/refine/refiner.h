@@ -45,6 +45,13 @@ struct StageSeconds {
   double serial() const;
 };
 
+/// What the time caps' flattening did (time_caps.h: flatten_caps).
+struct CapFlattening {
+  std::size_t past = 0;       // output vertices that lay past a cap's hyperplane
+  std::size_t flattened = 0;  // of them, moved onto it
+  double farthest_left = 0;   // how far past a cap a vertex is left, in time
+};
+
 struct RefineResult {
   mesh::Mesh4 mesh;
   mesh::MeshStats stats;
@@ -62,6 +69,8 @@ struct RefineResult {
   std::size_t pieces_removed = 0, pieces_bridged = 0, pieces_cut = 0;
   // The boundary vertices offset for the facets' sag (RefineParams::sag_offset).
   SagOffset sag;
+  // The time caps made flat (time_caps.h; open time with caps only).
+  CapFlattening caps;
   // The parallel phases' overheads (Progress): all 0 with one thread.
   std::uint64_t rollbacks = 0;
   double contention_seconds = 0;

@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "domain/surface_oracle.h"
+#include "refine/guarded_moves.h"
 
 namespace mesh4d::refine {
 
@@ -16,8 +17,54 @@ RefineResult refine_with_time_caps(const domain::LabelImage4& image, const Refin
   if (!caps_warning.empty()) warnings->push_back(caps_warning);
   const domain::SurfaceOracle oracle(capped, caps, working_threads(params));
   RefineResult result = refine(oracle, params, sink);
+  const double middle = image.voxel_center(0, 0, 0, image.dims()[3] / 2)[3];
+  result.caps = flatten_caps(result.mesh, caps, middle, params);
   drop_ghosts(result, caps, working_threads(params));
   return result;
+}
+
+CapFlattening flatten_caps(mesh::Mesh4& mesh, const domain::TimeCaps& caps, double middle,
+                           const RefineParams& params) {
+  CapFlattening out;
+  if (caps.frames == 0) return out;
+  const std::size_t nv = mesh.vertices.size();
+  const auto stays = [&](std::uint32_t p) { return !caps.is_ghost(mesh.labels[p]); };
+  std::vector<char> kept(nv, 0);
+  for (std::uint32_t p = 0; p < mesh.pentatopes.size(); ++p)
+    if (stays(p))
+      for (std::uint32_t v : mesh.pentatopes[p]) kept[v] = 1;
+  // A vertex past a cap lies on a cap facet near the ridge that R5 sampled on the ghosts' side
+  // of the surface (docs/algorithm.md, "The time caps"): in time it goes back to the cap.
+  std::vector<Point4> offset(nv, Point4{});
+  std::vector<double> target(nv, 0);
+  std::vector<std::uint32_t> moving;
+  for (std::uint32_t v = 0; v < nv; ++v) {
+    if (!kept[v]) continue;
+    const double t = mesh.vertices[v][3];
+    for (double cap : caps.times)
+      if (cap < middle ? t < cap : t > cap) {
+        offset[v][3] = cap - t;
+        target[v] = cap;
+        moving.push_back(v);
+        break;
+      }
+  }
+  out.past = moving.size();
+  if (moving.empty()) return out;
+  std::vector<std::uint32_t> self(nv);
+  for (std::uint32_t v = 0; v < nv; ++v) self[v] = v;
+  const std::vector<Point4> before = mesh.vertices;
+  const std::vector<double> scale =
+      move_guarded(mesh, before, self, offset, moving, stays, params).scale;
+  for (std::uint32_t v : moving) {
+    if (scale[v] == 1) {
+      mesh.vertices[v][3] = target[v];  // exactly on the hyperplane
+      ++out.flattened;
+    } else {
+      out.farthest_left = std::max(out.farthest_left, std::abs(target[v] - mesh.vertices[v][3]));
+    }
+  }
+  return out;
 }
 
 void drop_ghosts(RefineResult& result, const domain::TimeCaps& caps, unsigned threads) {

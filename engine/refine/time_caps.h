@@ -19,6 +19,13 @@ namespace mesh4d::refine {
 RefineResult refine_with_time_caps(const domain::LabelImage4& image, const RefineParams& params,
                                    ProgressSink* sink, std::vector<std::string>* warnings);
 
+/// Moves each vertex of a pentatope that stays (not a ghost's) and lies past a cap's hyperplane
+/// onto it, in time only, guarded as the sag offset's moves (guarded_moves.h) over the
+/// pentatopes that stay. `middle` is a time within the image's frames (which side of a cap is
+/// past it).
+CapFlattening flatten_caps(mesh::Mesh4& mesh, const domain::TimeCaps& caps, double middle,
+                           const RefineParams& params);
+
 /// Drops the pentatopes of ghost labels, and the vertices only they used: a facet between a
 /// label and its ghost becomes a boundary facet against the outside (label 0). The statistics
 /// are those of the mesh left; the refinement's counters stay.
