@@ -1,7 +1,10 @@
 #include "refine/time_caps.h"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 
+#include "delaunay/predicates.h"
 #include "domain/surface_oracle.h"
 #include "refine/guarded_moves.h"
 
@@ -56,13 +59,29 @@ CapFlattening flatten_caps(mesh::Mesh4& mesh, const domain::TimeCaps& caps, doub
   const std::vector<Point4> before = mesh.vertices;
   const std::vector<double> scale =
       move_guarded(mesh, before, self, offset, moving, stays, params).scale;
-  for (std::uint32_t v : moving) {
-    if (scale[v] == 1) {
-      mesh.vertices[v][3] = target[v];  // exactly on the hyperplane
-      ++out.flattened;
-    } else {
-      out.farthest_left = std::max(out.farthest_left, std::abs(target[v] - mesh.vertices[v][3]));
+  // A whole move lands within rounding of the cap: put it exactly there, unless that turns a
+  // pentatope that stays (checked exactly) where the guarded place did not.
+  std::vector<char> snapped(nv, 0);
+  for (std::uint32_t v : moving)
+    if (scale[v] == 1) mesh.vertices[v][3] = target[v], snapped[v] = 1;
+  for (bool undone = true; undone;) {  // until no undoing turns another pentatope
+    undone = false;
+    for (std::uint32_t p = 0; p < mesh.pentatopes.size(); ++p) {
+      const auto& c = mesh.pentatopes[p];
+      if (!stays(p) ||
+          std::none_of(c.begin(), c.end(), [&](std::uint32_t v) { return snapped[v]; }))
+        continue;
+      const auto& x = mesh.vertices;
+      if (delaunay::orient4(x[c[0]], x[c[1]], x[c[2]], x[c[3]], x[c[4]]) > 0) continue;
+      for (std::uint32_t v : c)
+        if (snapped[v]) mesh.vertices[v][3] = before[v][3] + offset[v][3], snapped[v] = 0;
+      undone = true;
     }
+  }
+  for (std::uint32_t v : moving) {
+    out.flattened += snapped[v];
+    if (!snapped[v])
+      out.farthest_left = std::max(out.farthest_left, std::abs(target[v] - mesh.vertices[v][3]));
   }
   return out;
 }

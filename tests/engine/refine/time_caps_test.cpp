@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "delaunay/predicates.h"
 #include "domain/phantoms.h"
 #include "domain/surface_oracle.h"
 #include "mesh/mesh_check.h"
@@ -65,6 +66,11 @@ TEST(TimeCaps, TheMeshEndsAtTheCapsWithFaithfulEndFrames) {
     earliest = std::min(earliest, v[3]), latest = std::max(latest, v[3]);
   EXPECT_LE(caps[0] - earliest, r.caps.farthest_left) << "no vertex farther past than reported";
   EXPECT_LE(latest - caps[1], r.caps.farthest_left);
+  for (const auto& c : r.mesh.pentatopes) {
+    const auto& x = r.mesh.vertices;
+    ASSERT_GT(delaunay::orient4(x[c[0]], x[c[1]], x[c[2]], x[c[3]], x[c[4]]), 0)
+        << "every pentatope keeps its orientation (exactly)";
+  }
   const mesh::BoundaryCheck check = mesh::check_boundary(r.mesh);
   EXPECT_EQ(check.non_feature_uses, 0u);
   EXPECT_EQ(check.odd, 0u);
