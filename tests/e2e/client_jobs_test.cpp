@@ -76,8 +76,9 @@ TEST(ClientJobs, EachSubcommandOnRealJobsThenWithoutAServer) {
   const std::string scale = short_job.output.substr(
       at + scale_printed.size(),
       short_job.output.find(' ', at + scale_printed.size()) - at - scale_printed.size());
-  EXPECT_NE(done.output.find("  delta 3, time scale " + scale + " per frame, open time\n"),
-            std::string::npos)
+  EXPECT_NE(
+      done.output.find("  delta 3, time scale " + scale + " per frame, open time, sag offset on\n"),
+      std::string::npos)
       << done.output;
   EXPECT_EQ(client({"list", "--state", "succeeded"}).output.find(long_id), std::string::npos);
   const RunResult fetched = client({"fetch", id, "--out", dir + "/sphere.m4d"});
