@@ -34,7 +34,8 @@ void expect_only_manifold_warning(const RefineResult& r);
 /// farther from it than `vertex_offset` (RefineResult::sag.largest_offset); the
 /// boundary of every label's region is a closed 3-manifold: each of its triangles is in exactly
 /// two of the region's boundary tetrahedra (none odd, none pinched in four or more, also where
-/// three labels meet); and the boundary stays within `max_distance` of ∂Ω (physical units).
+/// three labels meet); and the boundary stays within `max_distance` of ∂Ω (physical units), plus
+/// `vertex_offset`: a point of a facet moves by at most its vertices' largest move.
 /// GoogleTest expectations.
 void expect_fidelity(const mesh::Mesh4& m, const domain::SurfaceOracle& oracle,
                      const std::vector<domain::Label>& labels, double max_distance,
