@@ -18,15 +18,17 @@ struct Quality {
 };
 
 Quality quality(const delaunay::Simplex4& s) {
-  return {delaunay::normalized_volume(s), delaunay::radius_edge_ratio(s)};
+  const double r = delaunay::circumradius(s);
+  return {delaunay::normalized_volume(s, r), r / delaunay::shortest_edge(s)};
 }
 
-bool still_good(const Quality& before, const delaunay::Simplex4& after,
-                const RefineParams& params) {
+// `before` is asked only where the moved pentatope is past a bound: most are not.
+template <class Before>
+bool still_good(const Before& before, const delaunay::Simplex4& after, const RefineParams& params) {
   if (delaunay::orient4(after[0], after[1], after[2], after[3], after[4]) <= 0) return false;
   const Quality now = quality(after);
-  if (now.tau < params.sliver_bound && now.tau < before.tau) return false;
-  return now.rho < params.radius_edge_bound || now.rho <= before.rho;
+  if (now.tau < params.sliver_bound && now.tau < before().tau) return false;
+  return now.rho < params.radius_edge_bound || now.rho <= before().rho;
 }
 
 }  // namespace
@@ -57,7 +59,7 @@ GuardedMoves move_guarded(mesh::Mesh4& mesh, const std::vector<Point4>& before,
   };
   // Each round checks the pentatopes whose corners moved differently in the last one.
   std::vector<Quality> was(touched.size());
-  std::vector<char> spoiled(touched.size()), changed(nv, 1);
+  std::vector<char> known(touched.size(), 0), spoiled(touched.size()), changed(nv, 1);
   std::vector<std::uint32_t> check(touched.size());
   for (std::uint32_t i = 0; i < touched.size(); ++i) check[i] = i;
   for (int round = 0; !check.empty(); ++round) {
@@ -72,12 +74,16 @@ GuardedMoves move_guarded(mesh::Mesh4& mesh, const std::vector<Point4>& before,
           const std::uint32_t v = mesh.pentatopes[touched[i]][k];
           is[k] = mesh.vertices[v];
         }
-        if (round == 0) {
-          delaunay::Simplex4 original;
-          for (int k = 0; k < 5; ++k) original[k] = before[mesh.pentatopes[touched[i]][k]];
-          was[i] = quality(original);
-        }
-        spoiled[i] = !still_good(was[i], is, params);
+        const auto original = [&]() -> const Quality& {
+          if (!known[i]) {
+            delaunay::Simplex4 corners;
+            for (int k = 0; k < 5; ++k) corners[k] = before[mesh.pentatopes[touched[i]][k]];
+            was[i] = quality(corners);
+            known[i] = 1;
+          }
+          return was[i];
+        };
+        spoiled[i] = !still_good(original, is, params);
       }
     });
     std::fill(changed.begin(), changed.end(), 0);
