@@ -47,6 +47,7 @@ struct StageSeconds {
 
 /// What the time caps' flattening did (time_caps.h: flatten_caps).
 struct CapFlattening {
+  std::size_t relabeled = 0;  // pentatopes given to the ghosts, their centroid past a cap
   std::size_t past = 0;       // output vertices that lay past a cap's hyperplane
   std::size_t flattened = 0;  // of them, moved onto it
   double farthest_left = 0;   // how far past a cap a vertex is left, in time

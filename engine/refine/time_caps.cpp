@@ -7,6 +7,7 @@
 #include "delaunay/predicates.h"
 #include "domain/surface_oracle.h"
 #include "refine/guarded_moves.h"
+#include "refine/simple_relabeling.h"
 
 namespace mesh4d::refine {
 
@@ -26,10 +27,35 @@ RefineResult refine_with_time_caps(const domain::LabelImage4& image, const Refin
   return result;
 }
 
+namespace {
+
+// A pentatope of a label whose centroid lies past a cap goes to the label's ghost (and is
+// dropped with it): the flattening's guard cannot bring its vertices back, since a pentatope
+// wholly past the cap would turn. Its circumcenter, before the cap, chose the label.
+std::size_t relabel_past_caps(mesh::Mesh4& mesh, const domain::TimeCaps& caps, double middle) {
+  std::vector<mesh::Label> ghost_of(caps.real_of.size(), 0);
+  for (std::size_t g = 0; g < caps.real_of.size(); ++g)
+    if (caps.real_of[g] != 0) ghost_of[caps.real_of[g]] = static_cast<mesh::Label>(g);
+  return relabel_simple(mesh, [&](std::uint32_t p) -> mesh::Label {
+    double t = 0;
+    for (std::uint32_t v : mesh.pentatopes[p]) {
+      if (mesh.vertex_kinds[v] != mesh::VertexKind::feature) return 0;
+      t += mesh.vertices[v][3] / 5;
+    }
+    const mesh::Label l = mesh.labels[p];
+    bool past = false;
+    for (double cap : caps.times) past = past || (cap < middle ? t < cap : t > cap);
+    return past && l < ghost_of.size() ? ghost_of[l] : 0;
+  });
+}
+
+}  // namespace
+
 CapFlattening flatten_caps(mesh::Mesh4& mesh, const domain::TimeCaps& caps, double middle,
                            const RefineParams& params) {
   CapFlattening out;
   if (caps.frames == 0) return out;
+  out.relabeled = relabel_past_caps(mesh, caps, middle);
   const std::size_t nv = mesh.vertices.size();
   const auto stays = [&](std::uint32_t p) { return !caps.is_ghost(mesh.labels[p]); };
   std::vector<char> kept(nv, 0);

@@ -11,23 +11,15 @@
 
 #include "delaunay/geometry.h"
 #include "delaunay/predicates.h"
-#include "domain/phantoms.h"
 #include "domain/time_caps.h"
 #include "mesh/mesh_slice.h"
 #include "refine/fidelity_certificate.h"
+#include "refine/refine_checks.h"
 #include "refine/refiner.h"
 #include "refine/time_caps.h"
 
 namespace mesh4d::refine {
 namespace {
-
-// A beating ventricle (cavity and wall) at δ 8, with the time caps, as a job meshes it.
-domain::LabelImage4 ventricle() {
-  domain::LabelImage4 image =
-      domain::beating_ventricle_phantom({50, 50, 22, 8}, {3.54, 3.54, 12, 1});
-  image.set_time_spacing(8);
-  return image;
-}
 
 RefineParams params_with(bool sag_offset) {
   RefineParams params;
@@ -63,7 +55,7 @@ FrameErrors frame_errors(const mesh::Mesh4& m, const domain::LabelImage4& image)
 }
 
 TEST(FacetSag, SectionsKeepTheirVoxelsVolumeFrameByFrame) {
-  const domain::LabelImage4 image = ventricle();
+  const domain::LabelImage4 image = small_ventricle();
   std::vector<std::string> warnings;
   const RefineResult on = refine_with_time_caps(image, params_with(true), nullptr, &warnings);
   const RefineResult off = refine_with_time_caps(image, params_with(false), nullptr, &warnings);
@@ -90,7 +82,7 @@ TEST(FacetSag, SectionsKeepTheirVoxelsVolumeFrameByFrame) {
 TEST(FacetSag, OnlyTheBoundaryVerticesMoveAndTheCapsStay) {
   domain::TimeCaps caps;
   std::string warning;
-  const domain::LabelImage4 image = ventricle();
+  const domain::LabelImage4 image = small_ventricle();
   domain::LabelImage4 capped =
       domain::add_time_caps(image, domain::cap_frames(8, 8), &caps, &warning);
   domain::validate_and_close(capped);

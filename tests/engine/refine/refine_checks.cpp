@@ -36,6 +36,13 @@ double voxel_volume(const domain::LabelImage4& image, domain::Label label) {
   return n * s[0] * s[1] * s[2] * s[3];
 }
 
+domain::LabelImage4 small_ventricle() {
+  domain::LabelImage4 image =
+      domain::beating_ventricle_phantom({50, 50, 22, 8}, {3.54, 3.54, 12, 1});
+  image.set_time_spacing(8);
+  return image;
+}
+
 std::optional<domain::LabelImage4> patient_at_papers_spacing(const std::string& name) {
   const std::filesystem::path file =
       std::filesystem::path(MESH4D_HEART_DATA_DIR) / (name + "_mse4d_label4d.nii.gz");

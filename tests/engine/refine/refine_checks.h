@@ -21,6 +21,10 @@ double output_volume(const mesh::Mesh4& m, mesh::Label label = 0);
 /// 4-volume of a label's voxels.
 double voxel_volume(const domain::LabelImage4& image, domain::Label label);
 
+/// The beating ventricle small enough for δ 8 (50×50×22×8 voxels at 3.54×3.54×12 mm, a time
+/// scale of 8 per frame): its cavity and wall over eight frames, as the time tests mesh it.
+domain::LabelImage4 small_ventricle();
+
 /// A patient of ../shared/data/heart4d ("Pat01".."Pat05") at the paper's spacing (1.77, 1.77, 6,
 /// 1; its first 15 frames, as bench/refine_bench), closed; nothing where the data are absent.
 std::optional<domain::LabelImage4> patient_at_papers_spacing(const std::string& name);
