@@ -97,6 +97,59 @@ FacetSag measure(const mesh::Mesh4& mesh, const mesh::BoundaryTetrahedron& b,
   return out;
 }
 
+// The depth a facet's vertices did not move, taken over by those that moved whole, in one more
+// guarded move, so that the facet still gives back about the volume its sag cut off: the part of
+// an offset the guard held back, and a junction vertex's part (it does not move), 4/5 of the
+// facet's own sag. Each facet's missing volume goes to its whole movers in equal shares, as
+// depth over each one's facets (weight: their volume). Returns {held, taken} in 4-volume.
+std::array<double, 2> spread_held_depth(
+    mesh::Mesh4& mesh, const std::vector<std::uint32_t>& glued,
+    const std::vector<std::uint32_t>& facets, const std::vector<FacetSag>& sag,
+    const std::vector<double>& weight, const std::vector<double>& depth,
+    const std::vector<char>& junction, const std::vector<Point4>& offset,
+    const std::vector<std::uint32_t>& moving, const std::vector<double>& scale,
+    const RefineParams& params) {
+  const std::size_t nv = mesh.vertices.size();
+  std::vector<double> extra(nv, 0);
+  double held = 0;
+  for (std::size_t i = 0; i < facets.size(); ++i) {
+    if (!sag[i].measured) continue;
+    int whole = 0;
+    double missing = 0;  // depth, summed over the facet's vertices
+    for (std::uint32_t w : mesh.boundary[facets[i]].vertices) {
+      const std::uint32_t g = glued[w];
+      if (junction[g]) missing += kMeanDepthRatio * sag[i].sag;
+      if (depth[g] == 0) continue;
+      if (scale[g] == 1)
+        ++whole;
+      else
+        missing += (1 - scale[g]) * depth[g];
+    }
+    held += std::abs(missing) * sag[i].volume / 4;
+    if (whole == 0 || missing == 0) continue;
+    for (std::uint32_t w : mesh.boundary[facets[i]].vertices) {
+      const std::uint32_t g = glued[w];
+      if (depth[g] != 0 && scale[g] == 1) extra[g] += missing * sag[i].volume / (whole * weight[g]);
+    }
+  }
+  std::vector<Point4> more(nv, Point4{});
+  std::vector<std::uint32_t> takers;
+  for (std::uint32_t v : moving) {
+    if (extra[v] == 0) continue;
+    // At most as much again as its own depth, so that the boundary stays near ∂Ω everywhere.
+    extra[v] = std::clamp(extra[v], -std::abs(depth[v]), std::abs(depth[v]));
+    for (int a = 0; a < 4; ++a) more[v][a] = extra[v] * offset[v][a] / depth[v];
+    if (mesh.periodic()) more[v][3] = domain::snap_time(more[v][3]);
+    takers.push_back(v);
+  }
+  if (takers.empty()) return {held, 0};
+  const std::vector<Point4> now = mesh.vertices;
+  const std::vector<double> k = move_guarded(mesh, now, glued, more, takers, nullptr, params).scale;
+  double taken = 0;
+  for (std::uint32_t v : takers) taken += k[v] * std::abs(extra[v]) * weight[v] / 4;
+  return {held, taken};
+}
+
 }  // namespace
 
 SagOffset offset_facet_sag(mesh::Mesh4& mesh, const domain::SurfaceOracle& oracle,
@@ -153,6 +206,7 @@ SagOffset offset_facet_sag(mesh::Mesh4& mesh, const domain::SurfaceOracle& oracl
   }
   report.mean_sag = volume_sum > 0 ? sag_sum / volume_sum : 0;
   std::vector<Point4> offset(nv, Point4{});
+  std::vector<double> depth_of(nv, 0);  // signed, along the vertex's normal; 0: stays
   std::vector<std::uint32_t> moving;
   for (std::uint32_t v = 0; v < nv; ++v) {
     if (glued[v] != v || weight[v] == 0 || interface[v] >= kMany ||
@@ -170,16 +224,23 @@ SagOffset offset_facet_sag(mesh::Mesh4& mesh, const domain::SurfaceOracle& oracl
     if (!(length > 0)) continue;
     for (int a = 0; a < 4; ++a) offset[v][a] = depth * normal[v][a] / length;
     if (mesh.periodic()) offset[v][3] = domain::snap_time(offset[v][3]);
+    depth_of[v] = depth;
     moving.push_back(v);
   }
   const std::vector<double> scale =
       move_guarded(mesh, before, glued, offset, moving, nullptr, params).scale;
+  std::vector<char> junction(nv, 0);
+  for (std::uint32_t v = 0; v < nv; ++v) junction[v] = interface[v] == kMany;
+  const auto [held, taken] = spread_held_depth(mesh, glued, facets, sag, weight, depth_of, junction,
+                                               offset, moving, scale, params);
+  report.held_volume = held;
+  report.spread_volume = taken;
   for (std::uint32_t v : moving) {
     report.held += scale[v] < 1;
-    if (scale[v] == 0) continue;
+    const Vec move = minus(mesh.vertices[v], before[v]);
+    if (move == Vec{}) continue;
     ++report.moved;
-    report.largest_offset =
-        std::max(report.largest_offset, scale[v] * std::sqrt(dot(offset[v], offset[v])));
+    report.largest_offset = std::max(report.largest_offset, std::sqrt(dot(move, move)));
   }
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;

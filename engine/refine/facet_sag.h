@@ -8,9 +8,11 @@
 // depth of ∂Ω below its facets: for a paraboloid under an inscribed regular n-simplex that is
 // (1 − 1/(n+2)) times the depth at the facet's circumcenter, 4/5 for the tetrahedra here.
 // Vertices then lie off ∂Ω by 4/5 of their facets' mean sag (on the patients at δ 5, at most
-// 1.3–2.1 mm, about a voxel), and volumes are kept. The mesh's combinatorics, labels and pieces
+// up to about a voxel), and volumes are kept. The mesh's combinatorics, labels and pieces
 // do not change; a move that would flip a pentatope, make it a sliver or raise its radius-edge
-// ratio past the bound is halved, and after four halvings dropped.
+// ratio past the bound is halved, and after four halvings dropped. What a facet's vertices did not
+// move (held back, or a junction's share) its vertices that moved whole take over, up to their own
+// depth again, in one more guarded move.
 #pragma once
 
 #include <cstddef>
@@ -22,9 +24,12 @@
 namespace mesh4d::refine {
 
 struct SagOffset {
-  std::size_t facets = 0;     // restricted facets whose sag was measured
-  std::size_t moved = 0;      // vertices offset (a periodic twin pair counts once)
-  std::size_t held = 0;       // moves cut short or dropped for a pentatope's quality
+  std::size_t facets = 0;  // restricted facets whose sag was measured
+  std::size_t moved = 0;   // vertices offset (a periodic twin pair counts once)
+  std::size_t held = 0;    // moves cut short or dropped for a pentatope's quality
+  // The volume the facets' held moves and junction vertices left, and how much of it their
+  // vertices that moved whole took over (4-volume, physical units).
+  double held_volume = 0, spread_volume = 0;
   double mean_sag = 0;        // of the facets, |sag| weighted by area, physical units
   double largest_offset = 0;  // of any vertex
   double seconds = 0;         // the whole step, wall clock

@@ -68,6 +68,14 @@ TEST(FacetSag, SectionsKeepTheirVoxelsVolumeFrameByFrame) {
   EXPECT_GT(on.sag.facets, 0u);
   EXPECT_GT(on.sag.moved, 0u);
   EXPECT_EQ(off.sag.moved, 0u);
+  // What the quality guard held back and the junction vertices left, their facets' vertices
+  // that moved whole take over, within the guard and up to their own depth again: on this
+  // coarse phantom about two fifths of it.
+  std::printf("held back %.0f, taken over %.0f (4-volume)\n", on.sag.held_volume,
+              on.sag.spread_volume);
+  EXPECT_GT(on.sag.held_volume, 0);
+  EXPECT_GT(on.sag.spread_volume, 0.3 * on.sag.held_volume);
+  EXPECT_LE(on.sag.spread_volume, on.sag.held_volume * (1 + 1e-9));
   // Vertices on ∂Ω lose volume in every convex part; the offset gives much of it back (on this
   // coarse phantom, 3.5 voxels per Δ in z, a quarter of the mean error and a third of the worst).
   EXPECT_LT(with.mean, 0.85 * without.mean);
