@@ -219,16 +219,16 @@ class SimpleRelabeling {
   std::vector<std::uint32_t> glued_;
   std::vector<char> wanted_;  // by glued vertex: a vertex of an asked pentatope (stars_ has it)
   Stars stars_;
-  Stars outside_;  // by glued vertex: its boundary tetrahedra against the outside
-  std::vector<std::uint8_t> held_;
-  std::vector<std::uint32_t> around_;
+  Stars outside_;                   // by glued vertex: its boundary tetrahedra against the outside
+  std::vector<std::uint8_t> held_;  // by pentatope: the face it shares with the one asked
+  std::vector<std::uint32_t> around_;       // the pentatopes held_ is set for
+  std::vector<unsigned> outer_;             // the faces the asked one shares with the outside
   std::array<std::uint32_t, 5> neighbors_;  // across each facet of the pentatope simple() saw
   struct Move {
     std::uint32_t pentatope;
-    std::array<std::uint32_t, 5> neighbors;
+    std::array<std::uint32_t, 5> neighbors;  // across its facets, kNoPentatope: the outside
   };
   std::vector<Move> moves_;
-  std::vector<unsigned> outer_;
 };
 
 }  // namespace

@@ -20,10 +20,10 @@ RefineResult refine_with_time_caps(const domain::LabelImage4& image, const Refin
                                    ProgressSink* sink, std::vector<std::string>* warnings);
 
 /// First each pentatope of a label whose vertices all lie on ∂Ω and whose centroid lies past a
-/// cap goes to the label's ghost where that is simple (simple_relabeling.h). Then each vertex of a pentatope that stays (not a
-/// ghost's) and lies past a cap's hyperplane moves onto it, in time only, guarded as the sag
-/// offset's moves (guarded_moves.h) over the pentatopes that stay. `middle` is a time within
-/// the image's frames (which side of a cap is past it).
+/// cap goes to the label's ghost where that is simple (simple_relabeling.h). Then each vertex
+/// of a pentatope that stays (not a ghost's) and lies past a cap's hyperplane moves onto it, in
+/// time only, guarded as the sag offset's moves (guarded_moves.h) over the pentatopes that
+/// stay. `middle` is a time within the image's frames (which side of a cap is past it).
 CapFlattening flatten_caps(mesh::Mesh4& mesh, const domain::TimeCaps& caps, double middle,
                            const RefineParams& params);
 
