@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "civetweb_tls.h"
 #include "job_log.h"
 #include "job_manager.h"
 #include "job_store.h"
@@ -120,6 +121,22 @@ int main(int argc, char** argv) {
   config.max_image_bytes = options.max_image_mb << 20;
   config.max_vertex_budget = options.max_vertex_budget;
   config.retention = std::chrono::seconds(static_cast<long long>(options.retention_hours * 3600));
+  // One certificate for every port: the civetweb ones (REST, metrics) take it before they start.
+  if (!options.tls_cert.empty() || !options.tls_key.empty()) {
+    if (options.tls_cert.empty() || options.tls_key.empty()) {
+      spdlog::error("TLS needs both --tls-cert and --tls-key");
+      return 2;
+    }
+    if (!options.http_listen.empty() || !options.metrics_listen.empty()) {
+      try {
+        enable_civetweb_tls(options.tls_cert, options.tls_key);
+      } catch (const std::exception& e) {
+        spdlog::error("{}", e.what());
+        return 2;
+      }
+    }
+  }
+  const char* web_scheme = civetweb_tls_enabled() ? "https" : "http";
   std::unique_ptr<ServiceMetrics> metrics;
   if (!options.metrics_listen.empty()) {
     try {
@@ -128,7 +145,7 @@ int main(int argc, char** argv) {
       spdlog::error("cannot serve metrics on {}: {}", options.metrics_listen, e.what());
       return 2;
     }
-    spdlog::info("metrics on http://{}/metrics",
+    spdlog::info("metrics on {}://{}/metrics", web_scheme,
                  bound_address(options.metrics_listen, metrics->port()));
   }
   JobManager jobs(*store, config, metrics.get());
@@ -143,16 +160,8 @@ int main(int argc, char** argv) {
       spdlog::error("{}", e.what());
       return 2;
     }
-    spdlog::info("REST API and dashboard on http://{}/",
+    spdlog::info("REST API and dashboard on {}://{}/", web_scheme,
                  bound_address(options.http_listen, rest->port()));
-    // civetweb as Debian builds it loads OpenSSL by name at run time, which a slim image lacks:
-    // the REST face stays plain HTTP; beyond loopback it belongs behind a TLS proxy.
-    if (!options.tls_cert.empty() && options.http_listen.rfind("127.0.0.1:", 0) != 0 &&
-        options.http_listen.rfind("localhost:", 0) != 0)
-      spdlog::warn(
-          "the gRPC port uses TLS but the REST API on {} is plain HTTP: serve it on "
-          "loopback behind a TLS proxy, or turn it off with --http-listen ''",
-          options.http_listen);
   }
 
   grpc::EnableDefaultHealthCheckService(true);

@@ -1,11 +1,25 @@
 #include "metrics.h"
 
+#include <CivetServer.h>
 #include <google/protobuf/util/time_util.h>
 
 #include <cctype>
 
+#include "civetweb_tls.h"
+
 namespace mesh4d::server {
 namespace {
+
+// TLS on the metrics port when the server has it (civetweb_tls.h); civetweb copies nothing from
+// the callbacks, so they live as long as the process.
+const CivetCallbacks& tls_callbacks() {
+  static const CivetCallbacks callbacks = [] {
+    CivetCallbacks c{};
+    add_tls_setup(c);
+    return c;
+  }();
+  return callbacks;
+}
 
 std::string state_label(int state) {
   std::string name = v1::JobState_Name(static_cast<v1::JobState>(state)).substr(10);
@@ -17,7 +31,10 @@ std::string state_label(int state) {
 
 ServiceMetrics::ServiceMetrics(const std::string& listen)
     : registry_(std::make_shared<prometheus::Registry>()),
-      exposer_(std::make_unique<prometheus::Exposer>(listen)) {
+      exposer_(std::make_unique<prometheus::Exposer>(
+          std::vector<std::string>{"listening_ports", civetweb_listening_port(listen),
+                                   "num_threads", "2"},
+          &tls_callbacks())) {
   auto& jobs = prometheus::BuildGauge()
                    .Name("mesh4d_jobs")
                    .Help("Jobs by state (queued is the queue depth)")

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "bearer_token.h"
+#include "civetweb_tls.h"
 #include "embedded_files.h"
 #include "mesh/mesh_io.h"
 #include "mesh/mesh_slice.h"
@@ -282,7 +283,8 @@ class RestApi::Handler : public CivetHandler {
       throw HttpError{403, "PERMISSION_DENIED", "the token is not valid for this server"};
     send(c, 204, "application/json", "",
          "Set-Cookie: " + std::string(kSessionCookie) + "=" + token +
-             "; HttpOnly; SameSite=Strict; Path=/\r\n");
+             "; HttpOnly; SameSite=Strict; Path=/" + (civetweb_tls_enabled() ? "; Secure" : "") +
+             "\r\n");
   }
 
   void authorize(mg_connection* c, const std::map<std::string, std::string>& query) const {
@@ -526,12 +528,15 @@ RestApi::RestApi(JobManager& jobs, const std::string& listen, std::string token,
   // that sends its request slowly, or sits idle on a kept-alive connection, loses its worker
   // after the timeouts.
   const std::vector<std::string> options = {
-      "listening_ports",    listen, "num_threads",           std::to_string(2 * kMaxEventStreams),
-      "enable_keep_alive",  "yes",  "keep_alive_timeout_ms", "1000",
-      "request_timeout_ms", "10000"};
+      "listening_ports",       civetweb_listening_port(listen),
+      "num_threads",           std::to_string(2 * kMaxEventStreams),
+      "enable_keep_alive",     "yes",
+      "keep_alive_timeout_ms", "1000",
+      "request_timeout_ms",    "10000"};
   static const CivetCallbacks callbacks = [] {
     CivetCallbacks c;
     c.http_error = json_http_error;
+    add_tls_setup(c);
     return c;
   }();
   try {

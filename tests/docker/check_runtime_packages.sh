@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The Dockerfile's run-time stage installs exactly the Debian packages whose shared libraries the
-# binaries load (ldd, then dpkg -S), leaving out what debian:12-slim already has.
+# binaries and libraries load (ldd, then dpkg -S), leaving out what debian:12-slim already has.
 #   check_runtime_packages.sh DOCKERFILE BINARY...
 set -euo pipefail
 dockerfile=$1
