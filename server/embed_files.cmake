@@ -1,7 +1,11 @@
-# Writes OUT, a C++ file defining embedded::dashboard_html() and embedded::openapi_yaml() from
-# the files HTML and YAML (run by server/CMakeLists.txt at build time, when either changes).
+# Writes OUT, a C++ file defining embedded::dashboard_html(), embedded::openapi_yaml() and
+# embedded::viewer_js_gzip() from the files HTML, YAML and VIEWER_GZ (run by
+# server/CMakeLists.txt at build time, when one changes).
 file(READ "${HTML}" html)
 file(READ "${YAML}" yaml)
+# The gzipped bundle is binary: written as the bytes of an array.
+file(READ "${VIEWER_GZ}" viewer_hex HEX)
+string(REGEX REPLACE "(..)" "'\\\\x\\1'," viewer_bytes "${viewer_hex}")
 set(delimiter "MESH4D_EMBEDDED")
 foreach(text IN ITEMS html yaml)
   string(FIND "${${text}}" ")${delimiter}\"" clash)
@@ -22,6 +26,11 @@ const std::string& dashboard_html() {
 const std::string& openapi_yaml() {
   static const std::string text = R\"${delimiter}(${yaml})${delimiter}\";
   return text;
+}
+
+std::string_view viewer_js_gzip() {
+  static const char bytes[] = {${viewer_bytes}};
+  return {bytes, sizeof bytes};
 }
 
 }  // namespace mesh4d::server::embedded

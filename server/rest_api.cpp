@@ -19,8 +19,10 @@
 #include "bearer_token.h"
 #include "civetweb_tls.h"
 #include "embedded_files.h"
+#include "gzip_inflate.h"
 #include "mesh/mesh_io.h"
 #include "mesh/mesh_slice.h"
+#include "mesh/slice_surface.h"
 #include "mesh/vtu_writer.h"
 #include "multipart_form.h"
 #include "rest_upload.h"
@@ -218,6 +220,10 @@ class RestApi::Handler : public CivetHandler {
       send(c, 200, "text/html; charset=utf-8", embedded::dashboard_html());
       return;
     }
+    if (uri == "/viewer.js") {
+      require(method, "GET");
+      return viewer(c);
+    }
     if (uri == "/openapi.yaml") {
       require(method, "GET");
       send(c, 200, "application/yaml", embedded::openapi_yaml());
@@ -260,6 +266,17 @@ class RestApi::Handler : public CivetHandler {
       return slice(c, id, parts[2], query);
     }
     throw HttpError{404, "NOT_FOUND", "no such path: " + uri};
+  }
+
+  // The viewer's bundle as stored (gzip), or inflated for a client that does not accept gzip.
+  static void viewer(mg_connection* c) {
+    const char* accepted = mg_get_header(c, "Accept-Encoding");
+    const std::string_view gz = embedded::viewer_js_gzip();
+    if (accepted && std::string_view(accepted).find("gzip") != std::string_view::npos)
+      send(c, 200, "text/javascript; charset=utf-8", std::string(gz),
+           "Content-Encoding: gzip\r\nVary: Accept-Encoding\r\n");
+    else
+      send(c, 200, "text/javascript; charset=utf-8", inflate_gzip(gz), "Vary: Accept-Encoding\r\n");
   }
 
   static void require(const std::string& method, const char* allowed) {
@@ -477,28 +494,35 @@ class RestApi::Handler : public CivetHandler {
     if (observer_) observer_->on_bytes_sent(result.mesh.size());
   }
 
+  // A time slice: as VTK's .vtu (the whole section, or its boundary with ?boundary=1), or its
+  // boundary as .surface, the compact binary form the dashboard's viewer draws
+  // (mesh/slice_surface.h).
   void slice(mg_connection* c, const std::string& id, const std::string& file,
              const std::map<std::string, std::string>& query) {
-    const std::string suffix = ".vtu";
-    if (file.size() <= suffix.size() ||
-        file.compare(file.size() - suffix.size(), suffix.size(), suffix) != 0)
+    const auto dot = file.rfind('.');
+    const std::string format = dot == std::string::npos ? "" : file.substr(dot + 1);
+    if (format != "vtu" && format != "surface")
       throw wire::ServiceError(wire::ErrorCode::invalid_argument,
-                               "a slice is named by its time: /slices/{t}.vtu, not " + file);
-    const std::string t_text = file.substr(0, file.size() - suffix.size());
+                               "a slice is named by its time and format: /slices/{t}.vtu or "
+                               "/slices/{t}.surface, not " +
+                                   file);
+    const std::string t_text = file.substr(0, dot);
     char* end = nullptr;
     const double t = std::strtod(t_text.c_str(), &end);
-    if (*end != '\0' || !std::isfinite(t))
+    if (t_text.empty() || *end != '\0' || !std::isfinite(t))
       throw wire::ServiceError(wire::ErrorCode::invalid_argument,
                                "slice time '" + t_text + "' is not a number");
-    const bool boundary = query.count("boundary") && query.at("boundary") != "0";
-    const std::string vtu = on_full_stack([&] {
+    const bool surface = format == "surface";
+    const bool boundary = surface || (query.count("boundary") && query.at("boundary") != "0");
+    const std::string body = on_full_stack([&] {
       const auto result = jobs_.result(id);
       const mesh::Mesh4 m = mesh::decode_m4d(
           reinterpret_cast<const std::uint8_t*>(result.mesh.data()), result.mesh.size());
       const mesh::SliceMesh s = mesh::slice_mesh(m, t, boundary);
+      if (surface) return mesh::encode_slice_surface(m, s);
       return boundary ? mesh::slice_boundary_vtu(s) : mesh::slice_vtu(m, s);
     });
-    send(c, 200, "application/xml", vtu);
+    send(c, 200, surface ? "application/octet-stream" : "application/xml", body);
   }
 
   JobManager& jobs_;

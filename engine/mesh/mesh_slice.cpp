@@ -71,10 +71,11 @@ class Slicer {
     slice_.pentatopes.push_back(pentatope);
   }
 
-  void add_triangle(const std::array<std::uint32_t, 3>& t, Label inner, Label outer) {
+  void add_triangle(const std::array<std::uint32_t, 3>& t, const BoundaryTetrahedron& f) {
     if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return;
     slice_.triangles.push_back(t);
-    slice_.triangle_labels.push_back({inner, outer});
+    slice_.triangle_labels.push_back({f.inner, f.outer});
+    slice_.triangle_pentatopes.push_back(f.pentatope);
   }
 
   void add_pentatope(std::uint32_t index) {
@@ -131,7 +132,7 @@ class Slicer {
     if (nl == 1 || nh == 1) {
       std::array<std::uint32_t, 3> t;
       for (int j = 0; j < 3; ++j) t[j] = nl == 1 ? cut(lo[0], hi[j]) : cut(lo[j], hi[0]);
-      add_triangle(t, f.inner, f.outer);
+      add_triangle(t, f);
       return;
     }
     // A quad, in cyclic order, split on the diagonal through its smallest index (as the prisms).
@@ -139,8 +140,8 @@ class Slicer {
                                          cut(lo[1], hi[0])};
     const int m = static_cast<int>(std::min_element(q.begin(), q.end()) - q.begin());
     const int s = m % 2;  // the diagonal q[s]–q[s + 2]
-    add_triangle({q[s], q[s + 1], q[s + 2]}, f.inner, f.outer);
-    add_triangle({q[s], q[s + 2], q[(s + 3) % 4]}, f.inner, f.outer);
+    add_triangle({q[s], q[s + 1], q[s + 2]}, f);
+    add_triangle({q[s], q[s + 2], q[(s + 3) % 4]}, f);
   }
 
   SliceMesh take() { return std::move(slice_); }
@@ -160,8 +161,8 @@ SliceMesh slice_mesh(const Mesh4& mesh, double time, bool with_boundary) {
     // The cycle unrolled: every pentatope's class is cut once at the instant within the period.
     SliceMesh slice = slice_mesh(unrolled(mesh), wrapped_time(mesh, time), with_boundary);
     slice.time = time;
-    for (std::uint32_t& p : slice.pentatopes)
-      p %= static_cast<std::uint32_t>(mesh.pentatopes.size());
+    for (auto* list : {&slice.pentatopes, &slice.triangle_pentatopes})
+      for (std::uint32_t& p : *list) p %= static_cast<std::uint32_t>(mesh.pentatopes.size());
     return slice;
   }
   Slicer slicer(mesh, time);

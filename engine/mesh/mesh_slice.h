@@ -28,6 +28,7 @@ struct SliceMesh {
   /// (inner > outer, or outer = 0 for the background).
   std::vector<std::array<std::uint32_t, 3>> triangles;
   std::vector<std::array<Label, 2>> triangle_labels;  // {inner, outer}
+  std::vector<std::uint32_t> triangle_pentatopes;     // per triangle: its inner pentatope
 };
 
 /// Cuts the mesh at t = time; `with_boundary` also cuts the boundary tetrahedra. In periodic

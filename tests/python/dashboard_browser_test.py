@@ -11,24 +11,18 @@ screenshot of the finished page is kept in OUT_DIR/dashboard.png.
 
 usage: dashboard_browser_test.py SERVER_BINARY PHANTOM_BINARY OUT_DIR
 """
-import base64
 import json
 import os
-import shutil
 import signal
-import subprocess
 import sys
-import tempfile
 import time
 import urllib.parse
 import urllib.request
 
-import websocket
-from mesh4d_server import start_server
+from browser import finish, start_chromium, stop
+from mesh4d_server import start_server, ventricle_server
 
-CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-                  "--disable-component-update", "--disable-sync", "--window-size=1200,1100",
-                  "--remote-debugging-port=0"]
+FLAGS = ["--disable-gpu", "--window-size=1200,1100"]
 
 # What the test reads from the page (the dashboard's own element ids).
 READ_PAGE = """JSON.stringify({
@@ -55,44 +49,9 @@ READ_PAGE = """JSON.stringify({
 MARKUP_NAME = '<img src=x onerror="window.pwned=1">'
 
 
-def devtools_page(chromium):
-    """The page target's websocket, from the browser's 'DevTools listening on' line."""
-    deadline = time.time() + 60
-    while time.time() < deadline:
-        line = chromium.stderr.readline().decode(errors="replace")
-        if "DevTools listening on ws://" in line:
-            port = int(line.split("ws://127.0.0.1:")[1].split("/")[0])
-            break
-    else:
-        raise SystemExit("chromium did not open its DevTools port")
-    for _ in range(100):
-        targets = json.load(urllib.request.urlopen(f"http://127.0.0.1:{port}/json/list"))
-        pages = [t for t in targets if t["type"] == "page"]
-        if pages:
-            return websocket.create_connection(pages[0]["webSocketDebuggerUrl"], timeout=30)
-        time.sleep(0.1)
-    raise SystemExit("chromium has no page")
-
-
-class DevTools:
-    def __init__(self, ws):
-        self.ws, self.next_id = ws, 0
-
-    def call(self, method, **params):
-        self.next_id += 1
-        self.ws.send(json.dumps({"id": self.next_id, "method": method, "params": params}))
-        while True:
-            message = json.loads(self.ws.recv())
-            if message.get("id") == self.next_id:
-                if "error" in message:
-                    raise RuntimeError(f"{method}: {message['error']}")
-                return message["result"]
-
-    def read_page(self):
-        result = self.call("Runtime.evaluate", expression=READ_PAGE, returnByValue=True)
-        if "value" not in result["result"]:
-            return None  # the page is still loading
-        return json.loads(result["result"]["value"])
+def read_page(tools):
+    text = tools.evaluate(READ_PAGE)
+    return json.loads(text) if text else None  # None: the page is still loading
 
 
 def count(text):
@@ -116,7 +75,7 @@ def check_token_sign_in(tools, server_bin, folder, image):
         page = None
         deadline = time.time() + 60
         while time.time() < deadline:
-            page = tools.read_page()
+            page = read_page(tools)
             if page and page["login_shown"]:
                 break
             time.sleep(0.2)
@@ -128,7 +87,7 @@ def check_token_sign_in(tools, server_bin, folder, image):
             "document.getElementById('login').requestSubmit()"))
         deadline = time.time() + 120
         while time.time() < deadline:
-            page = tools.read_page()
+            page = read_page(tools)
             if page and page["job"] == job and page["state"]:
                 break
             time.sleep(0.3)
@@ -177,27 +136,16 @@ def check_certificate(page, base, job):
 
 def main():
     server_bin, phantom_bin, out_dir = sys.argv[1:4]
-    chromium_bin = shutil.which("chromium")
-    if not chromium_bin:
-        raise SystemExit("chromium is not installed (scripts/setup installs it)")
     os.makedirs(out_dir, exist_ok=True)
-    folder = tempfile.mkdtemp(prefix="mesh4d-dashboard-")
-    image = os.path.join(folder, "ventricle.nii.gz")
-    subprocess.run([phantom_bin, "ventricle", "--out", image], check=True, capture_output=True)
-    server, ports = start_server(server_bin, folder)
-    port = ports["http"]
-    base = f"http://127.0.0.1:{port}"
+    folder, image, server, base = ventricle_server(server_bin, phantom_bin, "mesh4d-dashboard-")
     chromium = None
     failures = []
     try:
-        chromium = subprocess.Popen(
-            [chromium_bin, *CHROMIUM_FLAGS, f"--user-data-dir={folder}/profile", base + "/"],
-            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-        tools = DevTools(devtools_page(chromium))
+        chromium, tools = start_chromium(base + "/", f"{folder}/profile", FLAGS)
         # The page first, then the job: a job that ended while the browser was still starting
         # (a loaded machine) would leave nothing to watch.
         deadline = time.time() + 120
-        while tools.read_page() is None and time.time() < deadline:
+        while read_page(tools) is None and time.time() < deadline:
             time.sleep(0.2)
         # A job long enough to watch (one thread, a fine delta).
         request = urllib.request.Request(
@@ -207,7 +155,7 @@ def main():
         seen, final = [], None
         deadline = time.time() + 300
         while time.time() < deadline:
-            page = tools.read_page()
+            page = read_page(tools)
             if page is None:
                 time.sleep(0.2)
                 continue
@@ -240,23 +188,11 @@ def main():
             failures += check_certificate(final, base, job)
             if MARKUP_NAME not in final["names"] or final["images"] or final["pwned"]:
                 failures.append(f"the job's name was taken as markup: {final}")
-        shot = tools.call("Page.captureScreenshot", format="png")
-        path = os.path.join(out_dir, "dashboard.png")
-        open(path, "wb").write(base64.b64decode(shot["data"]))
-        print("screenshot:", path)
+        tools.screenshot(os.path.join(out_dir, "dashboard.png"))
         failures += check_token_sign_in(tools, server_bin, folder, image)
     finally:
-        if chromium:
-            chromium.kill()
-            chromium.wait()
-        server.send_signal(signal.SIGTERM)
-        server.wait(timeout=30)
-    for f in failures:
-        print("FAIL:", f)
-    if failures:
-        print("kept for a look:", folder)
-        sys.exit(1)
-    shutil.rmtree(folder, ignore_errors=True)
+        stop(chromium, server)
+    finish(failures, folder)
 
 
 if __name__ == "__main__":

@@ -3,6 +3,7 @@
 import os
 import subprocess
 import sys
+import tempfile
 import time
 
 
@@ -27,3 +28,13 @@ def start_server(server_bin, folder, extra=()):
         time.sleep(0.05)
     process.kill()
     sys.exit("the server did not start; its log:\n" + open(log.name).read())
+
+
+def ventricle_server(server_bin, phantom_bin, prefix):
+    """A fresh folder with the beating ventricle phantom written by mesh4d-phantom, and a server
+    on it: (folder, image path, process, http base URL)."""
+    folder = tempfile.mkdtemp(prefix=prefix)
+    image = os.path.join(folder, "ventricle.nii.gz")
+    subprocess.run([phantom_bin, "ventricle", "--out", image], check=True, capture_output=True)
+    process, ports = start_server(server_bin, folder)
+    return folder, image, process, f"http://127.0.0.1:{ports['http']}"

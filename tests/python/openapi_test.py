@@ -127,6 +127,10 @@ def main():
         call(doc, base, "/v1/jobs/{id}/mesh", "GET", "/v1/jobs/nope/mesh")
         call(doc, base, "/v1/jobs/{id}/slices/{t}.vtu", "GET", f"/v1/jobs/{job}/slices/9.5.vtu")
         call(doc, base, "/v1/jobs/{id}/slices/{t}.vtu", "GET", f"/v1/jobs/{job}/slices/x.vtu")
+        status, surface = call(doc, base, "/v1/jobs/{id}/slices/{t}.surface", "GET",
+                               f"/v1/jobs/{job}/slices/9.5.surface")
+        check(status == 200 and surface[:4] == b"M4DS", "a slice surface starts with M4DS")
+        call(doc, base, "/v1/jobs/{id}/slices/{t}.surface", "GET", "/v1/jobs/nope/slices/9.5.surface")
         call(doc, base, "/v1/jobs/{id}/cancel", "POST", f"/v1/jobs/{job}/cancel")
         call(doc, base, "/v1/jobs/{id}/cancel", "POST", "/v1/jobs/nope/cancel")
         call(doc, base, "/v1/jobs/{id}/events", "GET", "/v1/jobs/nope/events")
@@ -140,7 +144,8 @@ def main():
                   ("/v1/jobs/{id}", "get"),
                   ("/v1/jobs/{id}", "delete"), ("/v1/jobs/{id}/cancel", "post"),
                   ("/v1/jobs/{id}/events", "get"), ("/v1/jobs/{id}/mesh", "get"),
-                  ("/v1/jobs/{id}/slices/{t}.vtu", "get")}
+                  ("/v1/jobs/{id}/slices/{t}.vtu", "get"),
+                  ("/v1/jobs/{id}/slices/{t}.surface", "get")}
         documented = {(p, m) for p, ops in doc["paths"].items() for m in ops
                       if m in ("get", "post", "delete", "put")}
         check(documented == called, f"documented {sorted(documented - called)} not called, "
