@@ -10,7 +10,7 @@ fail() { echo "compose: $*" >&2; exit 1; }
 grep -q 'dockerfile: docker/Dockerfile' <<<"$config" || fail "mesh4d is not built from docker/Dockerfile"
 grep -q 'mesh4d-client' <<<"$config" || fail "no health check through mesh4d-client"
 grep -q '/var/lib/mesh4d' <<<"$config" || fail "no data volume"
-grep -q 'prom/prometheus' <<<"$config" || fail "no Prometheus service"
+grep -q 'dockerfile: prometheus.Dockerfile' <<<"$config" || fail "no Prometheus service from Debian's package"
 grep -q 'mesh4d:9464' "$root/docker/prometheus.yml" || fail "Prometheus does not scrape mesh4d:9464"
 grep -q '^USER mesh4d' "$root/docker/Dockerfile" || fail "the image does not run as a non-root user"
 grep -q '^HEALTHCHECK' "$root/docker/Dockerfile" || fail "the image has no HEALTHCHECK"

@@ -3,7 +3,8 @@
 mesh4d-server while a job runs; through the DevTools protocol (python3-websocket) the test reads
 the page's DOM every half second and checks that the live progress numbers rise, and that the
 finished job shows its quality table, its fidelity certificate (each label's row as the REST face
-gives it, defects marked), its normalized-volume histogram and a download link. The
+gives it, defects marked), its normalized-volume histogram with labelled axes, the live plot of
+its progress (vertices, pentatopes, each rule's insertions over time) and a download link. The
 job's name is markup that would run a script if the page took it as HTML: it must show as text.
 Then a server with a token: the page asks for it, signs in (an HttpOnly cookie), and shows the
 jobs and a job's events, with the token in no URL and not readable by the page's scripts. A
@@ -35,7 +36,12 @@ READ_PAGE = """JSON.stringify({
       tr => Array.from(tr.children).map(td => td.textContent)),
   defects: document.querySelectorAll('#certificate td.defect').length,
   result_shown: !document.getElementById('result').hidden,
-  bars: document.querySelectorAll('#histogram div').length,
+  bars: document.querySelectorAll('#histogram rect.bar').length,
+  histogram_text: Array.from(document.querySelectorAll('#histogram text')).map(t => t.textContent),
+  plotted: Array.from(document.querySelectorAll('#plot-size polyline, #plot-rules polyline'))
+      .map(l => l.points.numberOfItems),
+  plot_text: Array.from(document.querySelectorAll('#plot-size text, #plot-rules text'))
+      .map(t => t.textContent),
   download: document.getElementById('download').getAttribute('href'),
   names: Array.from(document.querySelectorAll('#jobs tbody td:nth-child(2)')).map(td => td.textContent),
   images: document.querySelectorAll('#jobs img').length,
@@ -181,6 +187,15 @@ def main():
                 failures.append("the quality table lacks its two rows")
             if final["bars"] < 10:
                 failures.append("the normalized-volume histogram is missing")
+            for label in ("normalized volume", "pentatopes", "0", "1"):
+                if label not in final["histogram_text"]:
+                    failures.append(f"the histogram has no axis text {label!r}")
+            # The live plot: vertices, pentatopes and five rules, a point per progress report.
+            if len(final["plotted"]) != 7 or min(final["plotted"]) < 3:
+                failures.append(f"the progress plot lacks its lines: {final['plotted']}")
+            for label in ("vertices", "pentatopes", "R1", "R5", "elapsed s", "insertions"):
+                if label not in final["plot_text"]:
+                    failures.append(f"the progress plot has no text {label!r}")
             if final["download"] != f"/v1/jobs/{job}/mesh":
                 failures.append(f"download link {final['download']}")
             if count(final["pentatopes"]) <= 0:
