@@ -1,7 +1,8 @@
 #!/usr/bin/python3
-"""The dashboard's mesh viewer in a real browser: Debian's headless Chromium (WebGL in software,
-SwiftShader) opens a finished job of the beating ventricle. Through the DevTools protocol the test
-waits until the canvas shows the time slice, checks that the viewer drew exactly the triangles of
+"""The dashboard's submission form and mesh viewer in a real browser: Debian's headless Chromium
+(WebGL in software, SwiftShader) submits a file that is no image through the form (the form must
+say why), then the beating ventricle (δ 6, periodic time, a name: the job must carry them).
+Through the DevTools protocol the test waits until the finished job's canvas shows the time slice, checks that the viewer drew exactly the triangles of
 the server's slice at that instant (decoded here from /slices/{t}.surface, and counted apart from
 the .vtu boundary slice), moves the time slider, and checks that the canvas shows the mesh (pixels
 off the background) and that its pixels changed between the two instants. Colouring by quality
@@ -44,6 +45,27 @@ READ_CANVAS = """(() => {
   window.lastPixels = px;
   return JSON.stringify({ width: copy.width, height: copy.height, drawn, changed });
 })()"""
+
+
+def wait_for(read, what, timeout=300):
+    """read()'s first truthy value, polled; exits when none comes."""
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        value = read()
+        if value:
+            return value
+        time.sleep(0.3)
+    raise SystemExit(f"timed out waiting for {what}")
+
+
+def submit_form(tools, path, fields):
+    """Fills the page's submission form (the file through DevTools, as a person picks one) and
+    submits it."""
+    node = tools.call("Runtime.evaluate", expression="document.getElementById('submit-file')")
+    tools.call("DOM.setFileInputFiles", files=[path], objectId=node["result"]["objectId"])
+    for element, value in fields.items():
+        set_control(tools, element, value, "change")
+    tools.evaluate("document.getElementById('submit-form').requestSubmit(); 0")
 
 
 def set_control(tools, element, value, event):
@@ -100,19 +122,31 @@ def main():
     chromium = None
     failures = []
     try:
-        request = urllib.request.Request(f"{base}/v1/jobs?name=ventricle",
-                                         data=open(image, "rb").read(), method="POST")
-        job = json.load(urllib.request.urlopen(request, timeout=60))["job"]["id"]
-        deadline = time.time() + 300
-        while time.time() < deadline:
-            state = json.load(urllib.request.urlopen(f"{base}/v1/jobs/{job}"))["state"]
-            if state not in ("JOB_STATE_QUEUED", "JOB_STATE_RUNNING"):
-                break
-            time.sleep(0.5)
-        if state != "JOB_STATE_SUCCEEDED":
-            raise SystemExit(f"the job ended {state}")
-
         chromium, tools = start_chromium(base + "/", f"{folder}/profile", FLAGS)
+        # The dashboard's script ran (the first target can still be about:blank).
+        wait_for(lambda: tools.evaluate("document.readyState === 'complete' && "
+                                        "typeof showMesh === 'function'"), "the page to load")
+        # A file that is no image: the form says why, and no job is made.
+        junk = os.path.join(folder, "notes.nii.gz")
+        open(junk, "w").write("not an image")
+        submit_form(tools, junk, {"submit-delta": 5})
+        refused = wait_for(lambda: tools.evaluate(
+            "document.getElementById('submit-status').className === 'failed' && "
+            "document.getElementById('submit-status').textContent"), "the refusal")
+        print("a junk file:", refused)
+        if "INVALID_ARGUMENT" not in refused:
+            failures.append(f"the form's refusal does not say why: {refused!r}")
+        # The phantom through the form: δ 6, periodic time, a name.
+        submit_form(tools, image, {"submit-delta": 6, "submit-time": "periodic",
+                                   "submit-name": "form-ventricle"})
+        jobs = wait_for(lambda: json.load(urllib.request.urlopen(f"{base}/v1/jobs"))["jobs"],
+                        "the submitted job")
+        job = jobs[0]["id"]
+        params = jobs[0]["params"]
+        print("submitted through the form:", job, jobs[0]["name"], params)
+        if (len(jobs) != 1 or jobs[0]["name"] != "form-ventricle" or params["delta"] != 6
+                or params["time_topology"] != "TIME_TOPOLOGY_PERIODIC"):
+            failures.append(f"the form's job is not what was filled in: {jobs}")
         # The page selects the finished job and draws an instant mid-cycle.
         first = wait_for_draw(tools, job, 0)
         if not first:
