@@ -72,7 +72,8 @@ export class SliceViewer {
     this.scene.add(this.light);
     this.controls = new OrbitControls(this.camera, canvas);
     this.controls.addEventListener("change", () => this.render());
-    this.mesh = null;
+    this.meshes = [];
+    this.seeThrough = false;
     this.colorBy = "interface";
     this.surface = null;
     this.fitted = false;
@@ -120,38 +121,56 @@ export class SliceViewer {
     return this.interfaces.get(key);
   }
 
-  // One triangle soup (three corners each) with a colour per triangle.
+  // See-through: the surface against the outside drawn faint, so that the interfaces inside it
+  // (a cavity within its wall) show.
+  setSeeThrough(on) {
+    this.seeThrough = on;
+    if (this.surface) this.draw();
+  }
+
+  // Two triangle soups (three corners each, a colour per triangle): the triangles against the
+  // outside, and those between two labels.
   draw() {
     const s = this.surface;
     const m = s.triangles.length / 3;
-    const position = new Float32Array(9 * m);
-    const color = new Float32Array(9 * m);
     const c = new Color();
     const scale = SCALES[this.colorBy];
-    for (let i = 0; i < m; ++i) {
-      const col = scale ? qualityColor(scale, (this.colorBy === "ratio" ? s.ratio : s.volume)[i], c)
-                        : this.interfaceColor(s.labels[2 * i], s.labels[2 * i + 1]);
-      for (let k = 0; k < 3; ++k) {
-        const p = s.triangles[3 * i + k];
-        for (let a = 0; a < 3; ++a) {
-          position[9 * i + 3 * k + a] = s.points[3 * p + a];
-          color[9 * i + 3 * k + a] = [col.r, col.g, col.b][a];
+    const parts = [[], []];  // triangle indices: against the outside, between labels
+    for (let i = 0; i < m; ++i) parts[s.labels[2 * i + 1] === 0 ? 0 : 1].push(i);
+    for (const mesh of this.meshes || []) {
+      this.scene.remove(mesh);
+      mesh.geometry.dispose();
+      mesh.material.dispose();
+    }
+    this.meshes = parts.map((triangles, k) => {
+      const position = new Float32Array(9 * triangles.length);
+      const color = new Float32Array(9 * triangles.length);
+      triangles.forEach((i, j) => {
+        const col = scale
+          ? qualityColor(scale, (this.colorBy === "ratio" ? s.ratio : s.volume)[i], c)
+          : this.interfaceColor(s.labels[2 * i], s.labels[2 * i + 1]);
+        for (let corner = 0; corner < 3; ++corner) {
+          const p = s.triangles[3 * i + corner];
+          for (let a = 0; a < 3; ++a) {
+            position[9 * j + 3 * corner + a] = s.points[3 * p + a];
+            color[9 * j + 3 * corner + a] = [col.r, col.g, col.b][a];
+          }
         }
-      }
-    }
-    const geometry = new BufferGeometry();
-    geometry.setAttribute("position", new BufferAttribute(position, 3));
-    geometry.setAttribute("color", new BufferAttribute(color, 3));
-    geometry.computeVertexNormals();
-    if (this.mesh) {
-      this.scene.remove(this.mesh);
-      this.mesh.geometry.dispose();
-      this.mesh.material.dispose();
-    }
-    this.mesh = new Mesh(geometry, new MeshLambertMaterial({
-      vertexColors: true, side: DoubleSide, flatShading: true }));
-    this.scene.add(this.mesh);
-    if (!this.fitted && m > 0) this.fit(geometry);
+      });
+      const geometry = new BufferGeometry();
+      geometry.setAttribute("position", new BufferAttribute(position, 3));
+      geometry.setAttribute("color", new BufferAttribute(color, 3));
+      geometry.computeVertexNormals();
+      const faint = k === 0 && this.seeThrough;
+      const mesh = new Mesh(geometry, new MeshLambertMaterial({
+        vertexColors: true, side: DoubleSide, flatShading: true, transparent: faint,
+        opacity: faint ? 0.25 : 1, depthWrite: !faint }));
+      mesh.renderOrder = faint ? 1 : 0;  // the faint surface over what it holds
+      this.scene.add(mesh);
+      return mesh;
+    });
+    if (!this.fitted && m > 0) this.fit(this.meshes[0].geometry.attributes.position.count
+                                          ? this.meshes[0].geometry : this.meshes[1].geometry);
     this.state = { triangles: m, time: s.time, drawn: this.state.drawn + 1 };
     this.render();
   }

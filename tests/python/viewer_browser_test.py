@@ -6,7 +6,8 @@ Through the DevTools protocol the test waits until the finished job's canvas sho
 the server's slice at that instant (decoded here from /slices/{t}.surface, and counted apart from
 the .vtu boundary slice), moves the time slider, and checks that the canvas shows the mesh (pixels
 off the background) and that its pixels changed between the two instants. Colouring by quality
-redraws the same triangles. Two screenshots are kept in OUT_DIR (viewer_t1.png, viewer_t2.png).
+redraws the same triangles, and so does seeing through the outer surface. The screenshots are
+kept in OUT_DIR (viewer_t1.png, viewer_t2.png, viewer_see_through.png).
 
 usage: viewer_browser_test.py SERVER_BINARY PHANTOM_BINARY OUT_DIR
 """
@@ -175,6 +176,15 @@ def main():
                 failures.append(f"colouring by quality did not redraw the slice: {third}")
             if "radius-edge ratio" not in legend:
                 failures.append(f"the legend does not name the quality: {legend!r}")
+            # See-through: the outer surface faint, the same triangles, other pixels.
+            tools.evaluate("{ const e = document.getElementById('see-through'); e.checked = true;"
+                           " e.dispatchEvent(new Event('change')); } 0")
+            fourth = wait_for_draw(tools, job, third["drawn"] if third else 0)
+            canvas = json.loads(tools.evaluate(READ_CANVAS))
+            print("see-through:", fourth, canvas)
+            tools.screenshot(os.path.join(out_dir, "viewer_see_through.png"))
+            if not fourth or fourth["triangles"] != second["triangles"] or canvas["changed"] == 0:
+                failures.append(f"see-through did not redraw the slice: {fourth} {canvas}")
     finally:
         stop(chromium, server)
     finish(failures, folder)
