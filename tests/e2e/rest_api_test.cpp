@@ -142,6 +142,19 @@ TEST(RestApi, SubmitFollowEventsDownloadTheMeshAndASlice) {
   const Http page = curl(dir, base + "/");
   EXPECT_EQ(page.status, 200);
   EXPECT_NE(page.body.find("mesh4d jobs"), std::string::npos);
+  // The viewer's bundle: gzip as stored for a client that accepts it, inflated for one that
+  // does not; the same script either way.
+  const Http gz = curl(dir, base + "/viewer.js", {"-H", "Accept-Encoding: gzip"});
+  EXPECT_EQ(gz.status, 200);
+  EXPECT_EQ(header(gz, "Content-Encoding"), "gzip");
+  EXPECT_EQ(gz.body.substr(0, 2), "\x1f\x8b");
+  const Http plain = curl(dir, base + "/viewer.js");
+  EXPECT_EQ(plain.status, 200);
+  EXPECT_EQ(header(plain, "Content-Encoding"), "");
+  EXPECT_GT(plain.body.size(), 3 * gz.body.size());
+  EXPECT_NE(plain.body.find("M4DS"), std::string::npos) << "the viewer's decoder";
+  const Http compressed = curl(dir, base + "/viewer.js", {"--compressed"});
+  EXPECT_EQ(compressed.body, plain.body);
 }
 
 TEST(RestApi, EveryErrorOfTheGrpcTableHasItsHttpStatus) {
