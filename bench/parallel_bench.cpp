@@ -3,7 +3,8 @@
 // same run. Per thread count, the median of --repeat runs (each a forked child, one seed per
 // repeat, the thread counts interleaved): pentatopes, time, pentatopes/s, speedup (of the
 // median times) and paired speedup (over seeds, the median of a seed's time in the first row
-// over its time in this one), rollbacks, contention and idle thread-seconds, and the time spent
+// over its time in this one), rollbacks, contention and idle thread-seconds (and the workers'
+// time split: work, rolled-back work, waiting, idle), and the time spent
 // in the rules (the parallel phases; the pinch counts and the repair's insertions also use the
 // threads, the relabeling and extraction run on one), with the output's quality as a check.
 //
@@ -32,6 +33,7 @@ struct Run {
   double seconds, rules_seconds, contention, idle, rho_max, tau_min;
   bool valid;
   std::array<double, refine::kStages> stages;
+  double work, rolled_back;
 };
 
 double median(std::vector<double> v) {
@@ -83,6 +85,7 @@ int main(int argc, char** argv) {
     std::array<std::vector<double>, 5> insertions;
     std::array<std::vector<double>, refine::kStages> stages;
     std::vector<double> serial;
+    std::vector<double> work, rolled_back, waiting;  // thread-seconds of the parallel phases
     std::vector<std::uint64_t> fingerprints;  // one per seed, in seed order
     bool valid = true;
   };
@@ -114,7 +117,9 @@ int main(int argc, char** argv) {
                    r.stats.radius_edge_ratio.max,
                    r.stats.normalized_volume.min,
                    delaunay::check_triangulation(refiner.triangulation()).ok,
-                   r.stages.seconds};
+                   r.stages.seconds,
+                   r.work_seconds,
+                   r.rolled_back_seconds};
       });
       if (!run) {
         s.valid = false;
@@ -127,6 +132,9 @@ int main(int argc, char** argv) {
       s.rules.push_back(run->rules_seconds);
       s.contention.push_back(run->contention);
       s.idle.push_back(run->idle);
+      s.work.push_back(run->work);
+      s.rolled_back.push_back(run->rolled_back);
+      s.waiting.push_back(run->contention - run->rolled_back);
       s.pentatopes.push_back(double(run->pentatopes));
       s.rollbacks.push_back(double(run->rollbacks));
       for (int r = 0; r < 5; ++r) s.insertions[r].push_back(double(run->insertions[r]));
@@ -176,6 +184,20 @@ int main(int argc, char** argv) {
     for (int st = 0; st < refine::kStages; ++st)
       std::printf(" %.3f |", median(series[i].stages[st]));
     std::printf(" %.1f %% |\n", 100 * median(series[i].serial));
+  }
+  // Where the workers' time goes in the parallel phases (Progress): operations that committed
+  // or had nothing to do, operations rolled back, waits for a lock's holder or the contention
+  // manager, and time without work; thread-seconds summed over the workers, and the first as
+  // a share of threads × the rules' wall clock.
+  std::printf(
+      "\nWorkers' time in the rules' phases, median thread-seconds\n| threads | work | rolled "
+      "back | waiting | idle | work / (threads × rules s) |\n|---|---|---|---|---|---|\n");
+  for (std::size_t i = 0; i < threads.size(); ++i) {
+    const Series& s = series[i];
+    if (s.seconds.empty()) continue;
+    std::printf("| %u | %.2f | %.2f | %.2f | %.2f | %.1f %% |\n", threads[i], median(s.work),
+                median(s.rolled_back), median(s.waiting), median(s.idle),
+                100 * median(s.work) / (threads[i] * median(s.rules)));
   }
   // Each run's mesh (bench::mesh_fingerprint): with one thread, a seed fixes the mesh, so two
   // builds that refine alike print the same lines (scripts/mesh_hashes compares them).

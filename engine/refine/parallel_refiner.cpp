@@ -304,7 +304,7 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
           if (w.index == 0) tick();
           back_off(spins);
         }
-        w.contention_ns.fetch_add(nanoseconds_since(t0), std::memory_order_relaxed);
+        w.waiting_ns.fetch_add(nanoseconds_since(t0), std::memory_order_relaxed);
         continue;
       }
 
@@ -357,7 +357,7 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
           if (w.index == 0) tick();
           back_off(spins);
         }
-        w.contention_ns.fetch_add(nanoseconds_since(t0), std::memory_order_relaxed);
+        w.waiting_ns.fetch_add(nanoseconds_since(t0), std::memory_order_relaxed);
         continue;
       }
       if (rule != Rule::R5) lane.higher_in_flight.store(true, std::memory_order_release);
@@ -368,8 +368,12 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
       const auto blocker = w.locks.take_blocker();
       w.locks.release_all();
       w.live_cells.store(w.cells.live, std::memory_order_relaxed);
+      const std::uint64_t operation_ns = nanoseconds_since(t0);
+      if (outcome != Outcome::conflict) w.work_ns.fetch_add(operation_ns, std::memory_order_relaxed);
       if (outcome == Outcome::conflict) {
         w.rollbacks.fetch_add(1, std::memory_order_relaxed);
+        w.rolled_back_ns.fetch_add(operation_ns, std::memory_order_relaxed);
+        const auto waited_from = Clock::now();
         // Wait for the holder to let go: it commits or rolls back within one operation (tens of
         // microseconds), so yield, and sleep only when it takes far longer (a thread the system
         // parked). A feature sampled nearby meanwhile names no thread: tried again at once.
@@ -381,7 +385,7 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
               std::this_thread::sleep_for(std::chrono::microseconds(50));
           }
         }
-        w.contention_ns.fetch_add(nanoseconds_since(t0), std::memory_order_relaxed);
+        w.waiting_ns.fetch_add(nanoseconds_since(waited_from), std::memory_order_relaxed);
         {
           std::lock_guard lock(w.queue_mutex);
           w.queues[index_of(rule)].push_back(k);

@@ -16,9 +16,14 @@ struct Progress {
   std::uint64_t pentatopes = 0;               // finite pentatopes of the triangulation
   std::array<std::uint64_t, 5> insertions{};  // per rule R1..R5
   std::array<std::uint64_t, 5> removals{};
-  std::uint64_t rollbacks = 0;    // operations undone on a lock conflict (parallel phases)
-  double contention_seconds = 0;  // thread time lost to conflicts: rolled-back work, waits
-  double idle_seconds = 0;        // thread time without work (load imbalance)
+  std::uint64_t rollbacks = 0;  // operations undone on a lock conflict (parallel phases)
+  // Thread time of the parallel phases, summed over the workers: in operations that committed
+  // or found nothing to do; lost to conflicts (rolled_back_seconds of it in the operations
+  // undone, the rest waiting for a lock's holder or the contention manager); without work.
+  double work_seconds = 0;
+  double contention_seconds = 0;
+  double rolled_back_seconds = 0;
+  double idle_seconds = 0;
   double elapsed_seconds = 0;
 };
 

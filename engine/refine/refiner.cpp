@@ -225,7 +225,9 @@ struct Refiner::Pipeline {
     result.stats.insertions = done.insertions;
     result.stats.removals = done.removals;
     result.rollbacks = done.rollbacks;
+    result.work_seconds = done.work_seconds;
     result.contention_seconds = done.contention_seconds;
+    result.rolled_back_seconds = done.rolled_back_seconds;
     result.idle_seconds = done.idle_seconds;
     result.rules_seconds = rules_seconds;
     result.stats.elapsed_seconds = meter.elapsed_seconds();

@@ -74,7 +74,9 @@ struct RefineResult {
   CapFlattening caps;
   // The parallel phases' overheads (Progress): all 0 with one thread.
   std::uint64_t rollbacks = 0;
+  double work_seconds = 0;
   double contention_seconds = 0;
+  double rolled_back_seconds = 0;
   double idle_seconds = 0;
   double rules_seconds = 0;   // spent applying the rules (the part that runs on the workers)
   double repair_seconds = 0;  // the pinch repair's rounds, the rules after each included

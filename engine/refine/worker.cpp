@@ -22,7 +22,10 @@ Progress Workers::totals(Progress sum) const {
       sum.removals[r] += w->removals[r].load(std::memory_order_relaxed);
     }
     sum.rollbacks += w->rollbacks.load(std::memory_order_relaxed);
-    sum.contention_seconds += 1e-9 * double(w->contention_ns.load(std::memory_order_relaxed));
+    sum.work_seconds += 1e-9 * double(w->work_ns.load(std::memory_order_relaxed));
+    sum.rolled_back_seconds += 1e-9 * double(w->rolled_back_ns.load(std::memory_order_relaxed));
+    sum.contention_seconds += 1e-9 * double(w->rolled_back_ns.load(std::memory_order_relaxed) +
+                                            w->waiting_ns.load(std::memory_order_relaxed));
     sum.idle_seconds += 1e-9 * double(w->idle_ns.load(std::memory_order_relaxed));
   }
   return sum;

@@ -49,7 +49,9 @@ struct Worker {
   std::array<support::BlockStack<Candidate>, kQueuedRules> queues;  // by index_of(rule)
   // Counters, read by the reporting thread while this one writes them.
   std::array<std::atomic<std::uint64_t>, 5> insertions{}, removals{};
-  std::atomic<std::uint64_t> rollbacks{0}, contention_ns{0}, idle_ns{0};
+  // Thread time: operations that committed (or had nothing to do), operations rolled back,
+  // waits for a lock's holder or the contention manager, and time without work.
+  std::atomic<std::uint64_t> rollbacks{0}, work_ns{0}, rolled_back_ns{0}, waiting_ns{0}, idle_ns{0};
   std::atomic<std::int64_t> live_cells{0};  // cells.live, published after each operation
   // Its queues' lengths, for the other workers' R5 gate, on a cache line of its own: counters
   // shared by all workers made every pop and push write one line that every core then fetched.
