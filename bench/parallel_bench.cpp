@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
     std::array<std::vector<double>, refine::kStages> stages;
     std::vector<double> serial;
     std::vector<double> work, rolled_back, waiting;  // thread-seconds of the parallel phases
-    std::vector<std::uint64_t> fingerprints;  // one per seed, in seed order
+    std::vector<std::uint64_t> fingerprints;         // one per seed, in seed order
     bool valid = true;
   };
   std::vector<Series> series(threads.size());

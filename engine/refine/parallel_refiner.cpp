@@ -369,7 +369,8 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
       w.locks.release_all();
       w.live_cells.store(w.cells.live, std::memory_order_relaxed);
       const std::uint64_t operation_ns = nanoseconds_since(t0);
-      if (outcome != Outcome::conflict) w.work_ns.fetch_add(operation_ns, std::memory_order_relaxed);
+      if (outcome != Outcome::conflict)
+        w.work_ns.fetch_add(operation_ns, std::memory_order_relaxed);
       if (outcome == Outcome::conflict) {
         w.rollbacks.fetch_add(1, std::memory_order_relaxed);
         w.rolled_back_ns.fetch_add(operation_ns, std::memory_order_relaxed);

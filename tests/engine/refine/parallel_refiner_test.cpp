@@ -76,6 +76,15 @@ TEST_P(ParallelRefiner, EveryPhantomPassesTheSequentialChecks) {
     const auto check = delaunay::check_triangulation(refiner.triangulation());
     ASSERT_TRUE(check.ok) << check.error;
     ASSERT_GT(r.stats.pentatopes, 100u);
+    // The workers' time: counted in the parallel phases only, the rolled-back work part of the
+    // contention, and a rollback takes time.
+    if (params.threads == 1) {
+      EXPECT_EQ(r.work_seconds + r.contention_seconds + r.idle_seconds, 0.0);
+    } else {
+      EXPECT_GT(r.work_seconds, 0.0);
+      EXPECT_LE(r.rolled_back_seconds, r.contention_seconds);
+      EXPECT_EQ(r.rollbacks > 0, r.rolled_back_seconds > 0);
+    }
     EXPECT_LT(r.stats.radius_edge_ratio.max, params.radius_edge_bound);
     EXPECT_GE(r.stats.normalized_volume.min, params.sliver_bound);
     expect_only_manifold_warning(r);
