@@ -168,9 +168,15 @@ bool ParallelRefiner::Impl::pop(Worker& w, Shared& shared, Candidate* k, Rule* r
       }
     }
     if (own == Rule::none) return false;
-    *k = w.queues[index_of(own)].back();
-    w.queues[index_of(own)].pop_back();
+    auto& queue = w.queues[index_of(own)];
+    *k = queue.back();
+    queue.pop_back();
     w.publish_length(index_of(own));
+    // As on one thread: the next candidate's pentatope was queued long ago, its loads start now.
+    if (!queue.empty()) {
+      __builtin_prefetch(&state_.tri.store().cell(queue.back().cell));
+      __builtin_prefetch(&state_.info[queue.back().cell]);
+    }
     *rule = own;
     return true;
   }
