@@ -9,13 +9,14 @@
 namespace mesh4d::refine {
 
 using delaunay::CellId;
-using mesh4d::VertexId;
 using domain::Label;
+using mesh4d::VertexId;
 
 namespace {
 
 // Scans shorter than this stay on one thread: starting threads would cost more.
 constexpr std::size_t kScanPerThread = 4096;
+constexpr CellId kLoadsAhead = 8;  // pentatopes or records, prefetched ahead of use
 
 // The part that counts a triangle: every record of one triangle meets in one part.
 unsigned bucket_of(std::uint64_t hash, unsigned parts) {
@@ -58,6 +59,10 @@ std::size_t PinchScan::count(std::vector<PinchedTriangle>* pinched, PinchCounts*
   support::run_parts(parts, [&](unsigned part) {
     const auto [begin, end] = support::part_range(st.cell_slots(), part, parts);
     for (CellId c = static_cast<CellId>(begin); c < end; ++c) {
+      // The neighbors' infos lie anywhere in memory: a pentatope a few slots on has its
+      // neighbors' loads started now (the pentatopes themselves come in memory order).
+      if (c + kLoadsAhead < end && st.is_live(c + kLoadsAhead))
+        for (CellId n : st.cell(c + kLoadsAhead).n) __builtin_prefetch(&state_.info[n]);
       if (!st.is_live(c) || !state_.info[c].finite) continue;
       const domain::Label own = state_.label_of(c);  // read once: up to 21 uses below
       if (own == 0) continue;
@@ -94,12 +99,17 @@ std::size_t PinchScan::count(std::vector<PinchedTriangle>* pinched, PinchCounts*
       for (std::size_t i = r.hash & (size - 1);; i = (i + 1) & (size - 1))
         if (table[i].count == 0 || table[i].key == r.key) return table[i];
     };
-    for (const auto& from : records)
-      for (const Record& r : from[part]) {
-        Slot& slot = slot_of(r);
-        slot.key = r.key;
+    for (const auto& from : records) {
+      const std::vector<Record>& mine = from[part];
+      for (std::size_t k = 0; k < mine.size(); ++k) {
+        // Each record's slot is a random place in the table: loaded a few records ahead.
+        if (k + kLoadsAhead < mine.size())
+          __builtin_prefetch(&table[mine[k + kLoadsAhead].hash & (size - 1)]);
+        Slot& slot = slot_of(mine[k]);
+        slot.key = mine[k].key;
         if (++slot.count == 3) ++pinches[part];
       }
+    }
     if (pinched && pinches[part] > 0)
       for (const auto& from : records)
         for (const Record& r : from[part]) {
