@@ -44,18 +44,39 @@ GuardedMoves move_guarded(mesh::Mesh4& mesh, const std::vector<Point4>& before,
   // The pentatopes a move touches, and the moves' scales, halved where one spoils a pentatope.
   std::vector<double> scale(nv, 0);
   for (std::uint32_t v : moving) scale[v] = 1;
-  std::vector<std::uint32_t> touched;
-  for (std::uint32_t p = 0; p < mesh.pentatopes.size(); ++p)
-    for (std::uint32_t v : mesh.pentatopes[p])
-      if (scale[glued[v]] > 0 && (!counts || counts(p))) {
-        touched.push_back(p);
-        break;
+  // The pentatopes of `among` (all when null) with a corner that `moves`, in order: each part
+  // of them on a thread, joined in part order.
+  const auto those_with = [&](const std::vector<std::uint32_t>* among, const auto& moves) {
+    const std::size_t n = among ? among->size() : mesh.pentatopes.size();
+    const unsigned parts = support::parts_for(n, kMinShare, threads);
+    std::vector<std::vector<std::uint32_t>> found(parts);
+    support::run_parts(parts, [&](unsigned part) {
+      const auto [begin, end] = support::part_range(n, part, parts);
+      for (std::size_t i = begin; i < end; ++i) {
+        const std::uint32_t p = among ? (*among)[i] : static_cast<std::uint32_t>(i);
+        for (std::uint32_t v : mesh.pentatopes[p])
+          if (moves(glued[v], p)) {
+            found[part].push_back(static_cast<std::uint32_t>(i));
+            break;
+          }
       }
+    });
+    std::vector<std::uint32_t> out;
+    for (const auto& f : found) out.insert(out.end(), f.begin(), f.end());
+    return out;
+  };
+  const std::vector<std::uint32_t> touched = those_with(
+      nullptr,
+      [&](std::uint32_t g, std::uint32_t p) { return scale[g] > 0 && (!counts || counts(p)); });
   const auto place = [&] {
-    for (std::uint32_t v = 0; v < nv; ++v) {
-      const double k = scale[glued[v]];
-      for (int a = 0; a < 4; ++a) mesh.vertices[v][a] = before[v][a] + k * offset[glued[v]][a];
-    }
+    const unsigned parts = support::parts_for(nv, kMinShare, threads);
+    support::run_parts(parts, [&](unsigned part) {
+      const auto [begin, end] = support::part_range(nv, part, parts);
+      for (std::size_t v = begin; v < end; ++v) {
+        const double k = scale[glued[v]];
+        for (int a = 0; a < 4; ++a) mesh.vertices[v][a] = before[v][a] + k * offset[glued[v]][a];
+      }
+    });
   };
   // Each round checks the pentatopes whose corners moved differently in the last one.
   std::vector<Quality> was(touched.size());
@@ -96,13 +117,7 @@ GuardedMoves move_guarded(mesh::Mesh4& mesh, const std::vector<Point4>& before,
         changed[glued[v]] = 1;
       }
     }
-    check.clear();
-    for (std::uint32_t i = 0; i < touched.size(); ++i)
-      for (std::uint32_t v : mesh.pentatopes[touched[i]])
-        if (changed[glued[v]]) {
-          check.push_back(i);
-          break;
-        }
+    check = those_with(&touched, [&](std::uint32_t g, std::uint32_t) { return changed[g] != 0; });
   }
   return {std::move(scale)};
 }
