@@ -140,6 +140,8 @@ v1::Progress to_proto(const refine::Progress& p) {
   r.set_rollbacks(p.rollbacks);
   r.set_contention_seconds(p.contention_seconds);
   r.set_idle_seconds(p.idle_seconds);
+  r.set_work_seconds(p.work_seconds);
+  r.set_rolled_back_seconds(p.rolled_back_seconds);
   r.set_elapsed_seconds(p.elapsed_seconds);
   return r;
 }

@@ -71,9 +71,17 @@ TEST(ProtoConvert, StatsProgressAndPhasesKeepTheirValues) {
   p.vertices = 9;
   p.pentatopes = 99;
   p.phase = refine::Phase::extracting;
+  p.work_seconds = 3.5;
+  p.contention_seconds = 1.25;
+  p.rolled_back_seconds = 0.25;
+  p.idle_seconds = 0.5;
   const v1::Progress q = to_proto(p);
   EXPECT_EQ(q.vertices(), 9u);
   EXPECT_EQ(q.pentatopes(), 99u);
+  EXPECT_EQ(q.work_seconds(), 3.5);
+  EXPECT_EQ(q.contention_seconds(), 1.25);
+  EXPECT_EQ(q.rolled_back_seconds(), 0.25);
+  EXPECT_EQ(q.idle_seconds(), 0.5);
   std::set<int> phases;
   for (auto phase : {refine::Phase::loading, refine::Phase::distance_map, refine::Phase::refining,
                      refine::Phase::extracting, refine::Phase::writing})
