@@ -374,13 +374,12 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
       const auto blocker = w.locks.take_blocker();
       w.locks.release_all();
       w.live_cells.store(w.cells.live, std::memory_order_relaxed);
-      const std::uint64_t operation_ns = nanoseconds_since(t0);
-      if (outcome != Outcome::conflict)
-        w.work_ns.fetch_add(operation_ns, std::memory_order_relaxed);
+      const auto ended = Clock::now();
+      const auto operation_ns = static_cast<std::uint64_t>(
+          std::chrono::duration_cast<std::chrono::nanoseconds>(ended - t0).count());
       if (outcome == Outcome::conflict) {
         w.rollbacks.fetch_add(1, std::memory_order_relaxed);
         w.rolled_back_ns.fetch_add(operation_ns, std::memory_order_relaxed);
-        const auto waited_from = Clock::now();
         // Wait for the holder to let go: it commits or rolls back within one operation (tens of
         // microseconds), so yield, and sleep only when it takes far longer (a thread the system
         // parked). A feature sampled nearby meanwhile names no thread: tried again at once.
@@ -392,7 +391,7 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
               std::this_thread::sleep_for(std::chrono::microseconds(50));
           }
         }
-        w.waiting_ns.fetch_add(nanoseconds_since(waited_from), std::memory_order_relaxed);
+        w.waiting_ns.fetch_add(nanoseconds_since(ended), std::memory_order_relaxed);
         {
           std::lock_guard lock(w.queue_mutex);
           w.queues[index_of(rule)].push_back(k);
@@ -403,6 +402,7 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
           shared.priority.compare_exchange_strong(none, me, std::memory_order_acq_rel);
         }
       } else {
+        w.work_ns.fetch_add(operation_ns, std::memory_order_relaxed);
         lane.consecutive_rollbacks = 0;
         release_priority();
       }
