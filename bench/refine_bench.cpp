@@ -57,6 +57,11 @@ bool g_time_caps = true;
 // --time periodic: every row meshed in periodic time (refine/periodic_time.h), the cycle's last
 // frame next to its first.
 bool g_periodic = false;
+// --images Pat03,ventricle: the Mesh_3 comparison on these images only (all: empty).
+std::string g_images;
+bool wanted(const std::string& image) {
+  return g_images.empty() || ("," + g_images + ",").find("," + image + ",") != std::string::npos;
+}
 
 // Runs in a child: the cleanup, oracle and refinement of `image` with `params`; fixed-size
 // results only.
@@ -171,6 +176,8 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
 std::string g_only;
 // --sag-offset off: every boundary vertex left on ∂Ω (refine/facet_sag.h), for comparison.
 bool g_sag_offset = true;
+// --frame-fit off: no fit of the frames' volumes after the offset (refine/frame_volume_fit.h).
+bool g_frame_fit = true;
 double g_junction_spacing = refine::RefineParams{}.junction_spacing;
 std::uint64_t g_seed = refine::RefineParams{}.seed;
 std::vector<std::uint64_t> g_seeds;
@@ -191,6 +198,7 @@ bool mesh_row(const std::string& name, const domain::LabelImage4& image, double 
   params.junction_spacing = g_junction_spacing;
   params.seed = seed;
   params.sag_offset = g_sag_offset;
+  params.fit_frame_volumes = g_frame_fit;
   const Flat f = run_child(image, params);
   if (!f.ok) {
     std::printf("| %s | run failed |\n", name.c_str());
@@ -265,7 +273,9 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--time-caps") == 0) g_time_caps = std::strcmp(argv[i + 1], "off");
     if (std::strcmp(argv[i], "--time") == 0) g_periodic = !std::strcmp(argv[i + 1], "periodic");
     if (std::strcmp(argv[i], "--only") == 0) g_only = argv[i + 1];
+    if (std::strcmp(argv[i], "--images") == 0) g_images = argv[i + 1];
     if (std::strcmp(argv[i], "--sag-offset") == 0) g_sag_offset = std::strcmp(argv[i + 1], "off");
+    if (std::strcmp(argv[i], "--frame-fit") == 0) g_frame_fit = std::strcmp(argv[i + 1], "off");
     if (std::strcmp(argv[i], "--min-island-voxels") == 0)
       g_min_island_voxels = std::strtoull(argv[i + 1], nullptr, 10);
     if (std::strcmp(argv[i], "--junction-spacing") == 0)
@@ -287,10 +297,10 @@ int main(int argc, char** argv) {
   }
   std::printf(
       "Sequential refinement (R1-R5), one thread, junction spacing %g delta, %s, %s time, sag "
-      "offset %s\n",
+      "offset %s, frame volume fit %s\n",
       g_junction_spacing, seeds.c_str(),
       g_periodic ? "periodic" : (g_time_caps ? "open (time caps)" : "open (no caps)"),
-      g_sag_offset ? "on" : "off");
+      g_sag_offset ? "on" : "off", g_sag_offset && g_frame_fit ? "on" : "off");
   std::printf(
       "| input | rule order | δ | pentatopes | boundary tets | vertices | shortest edge | "
       "radius-edge max / mean / std | normalized volume min / mean / std | time s | "
@@ -342,13 +352,15 @@ int main(int argc, char** argv) {
       const std::string name = "Pat0" + std::to_string(patient);
       const std::string file = dir + "/" + name + "_mse4d_label4d.nii.gz";
       if (!std::ifstream(file)) break;
+      if (!wanted(name)) continue;
       summaries.emplace_back(
           name, mesh4d::bench::compare_with_mesh3_frames(
                     name.c_str(), domain::read_label_image(file), 5, patient == 1, g_sag_offset));
     }
-    summaries.emplace_back(
-        "ventricle", mesh4d::bench::compare_with_mesh3_frames(
-                         "ventricle", domain::beating_ventricle_phantom(), 5, false, g_sag_offset));
+    if (wanted("ventricle"))
+      summaries.emplace_back("ventricle", mesh4d::bench::compare_with_mesh3_frames(
+                                              "ventricle", domain::beating_ventricle_phantom(), 5,
+                                              false, g_sag_offset));
     mesh4d::bench::print_frames_summaries(summaries, 5);
   }
   return 0;

@@ -235,6 +235,17 @@ SagOffset offset_facet_sag(mesh::Mesh4& mesh, const domain::SurfaceOracle& oracl
                                                offset, moving, scale, params);
   report.held_volume = held;
   report.spread_volume = taken;
+  if (params.fit_frame_volumes) {
+    InterfaceVertices movers;
+    movers.glued = glued;
+    for (std::uint32_t v : moving) {
+      movers.ids.push_back(v);
+      movers.sides.push_back({static_cast<mesh::Label>(interface[v] >> 16),
+                              static_cast<mesh::Label>(interface[v] & 0xFFFFu)});
+      movers.normals.push_back(normal[v]);
+    }
+    report.fit = fit_frame_volumes(mesh, oracle, movers, params);
+  }
   for (std::uint32_t v : moving) {
     report.held += scale[v] < 1;
     const Vec move = minus(mesh.vertices[v], before[v]);

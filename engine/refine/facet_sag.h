@@ -19,6 +19,7 @@
 
 #include "domain/surface_oracle.h"
 #include "mesh/mesh4.h"
+#include "refine/frame_volume_fit.h"
 #include "refine/refine_params.h"
 
 namespace mesh4d::refine {
@@ -32,6 +33,7 @@ struct SagOffset {
   double held_volume = 0, spread_volume = 0;
   double mean_sag = 0;        // of the facets, |sag| weighted by area, physical units
   double largest_offset = 0;  // of any vertex
+  FrameVolumeFit fit;         // the frames' volumes fitted after the offset
   double seconds = 0;         // the whole step, wall clock
 };
 

@@ -33,6 +33,9 @@ struct RefineParams {
   // Offset the boundary vertices for the facets' sag (facet_sag.h), so that regions keep their
   // volume; off: every boundary vertex lies on ∂Ω, as in the paper.
   bool sag_offset = true;
+  // After the offset, fit each label's section at each frame to its voxels
+  // (frame_volume_fit.h). Off only to measure what it does (tests, refine_bench).
+  bool fit_frame_volumes = true;
   // Worker threads sharing the triangulation (parallel_refiner.cpp); 1: the sequential path.
   unsigned threads = 1;
   // How many of them may work at once, changed while the job runs; null: all of them.
