@@ -12,11 +12,11 @@
 #include <cmath>
 #include <cstdio>
 
-#include "delaunay/predicates.h"
 #include "domain/time_scale.h"
 #include "mesh/mesh_slice.h"
 #include "refine/fidelity_certificate.h"
 #include "refine/periodic_time.h"
+#include "refine/refine_checks.h"
 #include "refine/refiner.h"
 #include "refine/time_caps.h"
 
@@ -110,16 +110,7 @@ void expect_fitted(bool periodic) {
   }
   EXPECT_GT(farthest, 0);
   EXPECT_LE(farthest, 0.5 + 1e-9);
-  for (const auto& p : on.mesh.pentatopes)
-    ASSERT_GT(
-        delaunay::orient4(on.mesh.vertices[p[0]], on.mesh.vertices[p[1]], on.mesh.vertices[p[2]],
-                          on.mesh.vertices[p[3]], on.mesh.vertices[p[4]]),
-        0);
-  const RefineParams params = params_with(true);
-  EXPECT_GE(on.stats.normalized_volume.min,
-            std::min(params.sliver_bound, off.stats.normalized_volume.min));
-  EXPECT_LE(on.stats.radius_edge_ratio.max,
-            std::max(params.radius_edge_bound, off.stats.radius_edge_ratio.max));
+  expect_moves_kept_quality(on, off, params_with(true));
   if (!periodic) {
     const FidelityCertificate certificate = certify(on.mesh, image);
     EXPECT_TRUE(certificate.defects().empty()) << ::testing::PrintToString(certificate.defects());

@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "delaunay/geometry.h"
+#include "delaunay/predicates.h"
 #include "domain/image_io.h"
 #include "domain/phantoms.h"
 #include "mesh/mesh_check.h"
@@ -179,6 +180,19 @@ void expect_cancellation_and_budget_stop(unsigned threads) {
   EXPECT_THROW(Refiner(oracle, params).run(&sink), Cancelled);
   params.vertex_budget = 200;
   EXPECT_THROW(Refiner(oracle, params).run(), BudgetExceeded);
+}
+
+void expect_moves_kept_quality(const RefineResult& moved, const RefineResult& unmoved,
+                               const RefineParams& params) {
+  const mesh::Mesh4& a = moved.mesh;
+  for (const auto& p : a.pentatopes)
+    ASSERT_GT(delaunay::orient4(a.vertices[p[0]], a.vertices[p[1]], a.vertices[p[2]],
+                                a.vertices[p[3]], a.vertices[p[4]]),
+              0);
+  EXPECT_GE(moved.stats.normalized_volume.min,
+            std::min(params.sliver_bound, unmoved.stats.normalized_volume.min));
+  EXPECT_LE(moved.stats.radius_edge_ratio.max,
+            std::max(params.radius_edge_bound, unmoved.stats.radius_edge_ratio.max));
 }
 
 }  // namespace mesh4d::refine

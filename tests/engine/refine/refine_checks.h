@@ -33,6 +33,11 @@ std::optional<domain::LabelImage4> patient_at_papers_spacing(const std::string& 
 /// is there exactly when some are left. GoogleTest expectations.
 void expect_only_manifold_warning(const RefineResult& r);
 
+/// After vertex moves (the sag offset, the frames' fit): every pentatope of `moved` positively
+/// oriented, exactly, and its quality within what the refinement left in `unmoved`.
+void expect_moves_kept_quality(const RefineResult& moved, const RefineResult& unmoved,
+                               const RefineParams& params);
+
 /// Fidelity (the refiner's promise): every boundary-tetrahedron vertex is a feature vertex lying on
 /// ∂Ω, that is, the two largest interpolated label indicators there are equal (to 1e-6), or no
 /// farther from it than `vertex_offset` (RefineResult::sag.largest_offset); the
