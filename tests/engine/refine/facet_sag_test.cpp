@@ -10,7 +10,6 @@
 #include <cstdio>
 
 #include "delaunay/geometry.h"
-#include "delaunay/predicates.h"
 #include "domain/time_caps.h"
 #include "mesh/mesh_slice.h"
 #include "refine/fidelity_certificate.h"
