@@ -40,7 +40,8 @@ struct SagOffset {
 /// Offsets the boundary vertices of `mesh` that lie on one interface only (junctions and the
 /// vertices of more than two labels stay), on up to working_threads(params) threads. The
 /// oracle is the one the mesh was refined against. In periodic time a vertex and its twin move
-/// alike.
+/// alike. Then, with RefineParams::fit_frame_volumes, the same vertices fit the sections at the
+/// frames to the voxels (frame_volume_fit.h).
 SagOffset offset_facet_sag(mesh::Mesh4& mesh, const domain::SurfaceOracle& oracle,
                            const RefineParams& params);
 
