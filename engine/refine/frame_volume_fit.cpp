@@ -16,6 +16,8 @@ constexpr std::size_t kMaxRounds = 4;
 // Every section within this share of its voxels ends the fit: a third of what a pipeline is
 // promised (3 %), and each round more costs the guard's checks again.
 constexpr double kEnough = 1e-2;
+// A round that takes less than this share off the sections' summed error is the last.
+constexpr double kLeastGain = 0.1;
 constexpr double kSmallestMove = 0.02;  // of the largest move
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
@@ -231,6 +233,14 @@ class FrameFit {
     return volume;
   }
 
+  // The sections' relative errors, summed in magnitude.
+  double total_error(const std::vector<double>& volume) const {
+    double sum = 0;
+    for (std::size_t u = 0; u < n_; ++u)
+      if (target_[u] > 0) sum += std::abs(volume[u] / target_[u] - 1);
+    return sum;
+  }
+
   // The relative error of largest magnitude.
   double worst(const std::vector<double>& volume) const {
     double w = 0;
@@ -409,11 +419,17 @@ FrameVolumeFit fit_frame_volumes(mesh::Mesh4& mesh, const domain::SurfaceOracle&
   const std::vector<Point4> start = mesh.vertices;
   // The shares are measured once: the moves are a fraction of a voxel.
   fit.measure_shares();
+  double error = fit.total_error(volume);
   while (report.rounds < kMaxRounds && std::abs(report.worst_after) > kEnough) {
     if (!fit.move(fit.solve_for(fit.jacobian(), volume), params)) break;
     ++report.rounds;
     volume = fit.measure();
     report.worst_after = fit.worst(volume);
+    // Where the guard or the mesh leaves a section out of reach (an end frame of an image closed
+    // without its caps), another round costs as much and gives nothing.
+    const double was = error;
+    error = fit.total_error(volume);
+    if (error > (1 - kLeastGain) * was) break;
   }
   for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) {
     double d2 = 0;
