@@ -2,14 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 
 #include "mesh/periodic_mesh.h"
+#include "support/parallel_parts.h"
 
 namespace mesh4d::mesh {
 namespace {
 
 using P3 = std::array<double, 3>;
+
+constexpr std::size_t kMinShare = 4096;  // pentatopes per thread, at least
 
 double signed_volume6(const P3& a, const P3& b, const P3& c, const P3& d) {
   const P3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
@@ -17,6 +21,36 @@ double signed_volume6(const P3& a, const P3& b, const P3& c, const P3& d) {
   const P3 w{d[0] - a[0], d[1] - a[1], d[2] - a[2]};
   return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
          u[2] * (v[0] * w[1] - v[1] * w[0]);
+}
+
+// Six times the volume of a pentatope's section by the hyperplane t = `time`, which its time
+// span contains: the edges from the corners below t to those at or above it, cut at t. A
+// pentatope whose top is at t has a section (a facet on the plane is the section of the
+// pentatope below it, as in slice_mesh); one whose bottom is at t has none.
+double section_volume6(const Mesh4& mesh, const std::array<std::uint32_t, 5>& cell, double time) {
+  std::array<std::uint32_t, 5> below{}, above{};
+  int nb = 0, na = 0;
+  for (auto v : cell) (mesh.vertices[v][3] < time ? below[nb++] : above[na++]) = v;
+  const auto cut = [&](std::uint32_t a, std::uint32_t b) {
+    const Point4& p0 = mesh.vertices[a];
+    const Point4& p1 = mesh.vertices[b];
+    const double s = (time - p0[3]) / (p1[3] - p0[3]);
+    return P3{p0[0] + s * (p1[0] - p0[0]), p0[1] + s * (p1[1] - p0[1]),
+              p0[2] + s * (p1[2] - p0[2])};
+  };
+  if (nb == 1 || na == 1) {
+    std::array<P3, 4> q;
+    for (int j = 0; j < 4; ++j) q[j] = nb == 1 ? cut(below[0], above[j]) : cut(below[j], above[0]);
+    return std::abs(signed_volume6(q[0], q[1], q[2], q[3]));
+  }
+  std::array<P3, 3> a, b;  // the prism's two triangles
+  for (int j = 0; j < 3; ++j) {
+    a[j] = nb == 2 ? cut(below[0], above[j]) : cut(below[j], above[0]);
+    b[j] = nb == 2 ? cut(below[1], above[j]) : cut(below[j], above[1]);
+  }
+  return std::abs(signed_volume6(a[0], a[1], a[2], b[2])) +
+         std::abs(signed_volume6(a[0], a[1], b[2], b[1])) +
+         std::abs(signed_volume6(a[0], b[1], b[2], b[0]));
 }
 
 // Builds a slice: one point per crossing edge, shared by every pentatope around that edge.
@@ -180,7 +214,8 @@ double tetrahedron_volume(const SliceMesh& slice, std::size_t i) {
 }
 
 std::vector<std::map<Label, double>> slice_volumes(const Mesh4& mesh,
-                                                   const std::vector<double>& times) {
+                                                   const std::vector<double>& times,
+                                                   unsigned threads) {
   if (mesh.periodic()) {
     // Each instant within the period, in ascending order, on the unrolled cycle.
     std::vector<std::pair<double, std::size_t>> order;
@@ -189,52 +224,53 @@ std::vector<std::map<Label, double>> slice_volumes(const Mesh4& mesh,
     std::sort(order.begin(), order.end());
     std::vector<double> wrapped;
     for (const auto& o : order) wrapped.push_back(o.first);
-    std::vector<std::map<Label, double>> at = slice_volumes(unrolled(mesh), wrapped);
+    std::vector<std::map<Label, double>> at = slice_volumes(unrolled(mesh), wrapped, threads);
     std::vector<std::map<Label, double>> volumes(times.size());
     for (std::size_t k = 0; k < order.size(); ++k) volumes[order[k].second] = std::move(at[k]);
     return volumes;
   }
-  std::vector<std::map<Label, double>> volumes(times.size());
-  for (std::size_t p = 0; p < mesh.pentatopes.size(); ++p) {
-    const auto& cell = mesh.pentatopes[p];
-    double lo = mesh.vertices[cell[0]][3], hi = lo;
-    for (auto v : cell)
-      lo = std::min(lo, mesh.vertices[v][3]), hi = std::max(hi, mesh.vertices[v][3]);
-    for (auto it = std::upper_bound(times.begin(), times.end(), lo); it != times.end() && *it <= hi;
-         ++it) {
-      const double t = *it;
-      // The edges from the corners below t to those at or above it, cut at t. A pentatope whose
-      // top is at t counts (a facet on the plane is the section of the pentatope below it, as
-      // in slice_mesh); one whose bottom is at t does not.
-      std::array<std::uint32_t, 5> below, above;
-      int nb = 0, na = 0;
-      for (auto v : cell) (mesh.vertices[v][3] < t ? below[nb++] : above[na++]) = v;
-      const auto cut = [&](std::uint32_t a, std::uint32_t b) {
-        const Point4& p0 = mesh.vertices[a];
-        const Point4& p1 = mesh.vertices[b];
-        const double s = (t - p0[3]) / (p1[3] - p0[3]);
-        return P3{p0[0] + s * (p1[0] - p0[0]), p0[1] + s * (p1[1] - p0[1]),
-                  p0[2] + s * (p1[2] - p0[2])};
-      };
-      double six = 0;  // six times the section's volume
-      if (nb == 1 || na == 1) {
-        std::array<P3, 4> q;
-        for (int j = 0; j < 4; ++j)
-          q[j] = nb == 1 ? cut(below[0], above[j]) : cut(below[j], above[0]);
-        six = std::abs(signed_volume6(q[0], q[1], q[2], q[3]));
-      } else {
-        std::array<P3, 3> a, b;  // the prism's two triangles
-        for (int j = 0; j < 3; ++j) {
-          a[j] = nb == 2 ? cut(below[0], above[j]) : cut(below[j], above[0]);
-          b[j] = nb == 2 ? cut(below[1], above[j]) : cut(below[j], above[1]);
-        }
-        six = std::abs(signed_volume6(a[0], a[1], a[2], b[2])) +
-              std::abs(signed_volume6(a[0], a[1], b[2], b[1])) +
-              std::abs(signed_volume6(a[0], b[1], b[2], b[0]));
+  // The labels numbered densely, so that each part sums into a flat table of times × labels.
+  std::vector<std::uint32_t> slot(std::size_t{std::numeric_limits<Label>::max()} + 1, 0);
+  std::vector<Label> label_of;
+  for (const Label l : mesh.labels)
+    if (slot[l] == 0) label_of.push_back(l), slot[l] = static_cast<std::uint32_t>(label_of.size());
+  const std::size_t width = label_of.size();
+  const unsigned parts = support::parts_for(mesh.pentatopes.size(), kMinShare, threads);
+  // Per part: the sections' volumes, and whether any pentatope was cut there (a label is listed
+  // at a time where it has a section, even a flat one).
+  std::vector<std::vector<double>> volume_sum(parts);
+  std::vector<std::vector<char>> cut_at(parts);
+  support::run_parts(parts, [&](unsigned part) {
+    std::vector<double>& sum = volume_sum[part];
+    std::vector<char>& cut_here = cut_at[part];
+    sum.assign(times.size() * width, 0);
+    cut_here.assign(times.size() * width, 0);
+    const auto [begin, end] = support::part_range(mesh.pentatopes.size(), part, parts);
+    for (std::size_t p = begin; p < end; ++p) {
+      const auto& cell = mesh.pentatopes[p];
+      double lo = mesh.vertices[cell[0]][3], hi = lo;
+      for (auto v : cell)
+        lo = std::min(lo, mesh.vertices[v][3]), hi = std::max(hi, mesh.vertices[v][3]);
+      for (auto it = std::upper_bound(times.begin(), times.end(), lo);
+           it != times.end() && *it <= hi; ++it) {
+        const std::size_t k =
+            static_cast<std::size_t>(it - times.begin()) * width + slot[mesh.labels[p]] - 1;
+        sum[k] += section_volume6(mesh, cell, *it) / 6;
+        cut_here[k] = 1;
       }
-      volumes[static_cast<std::size_t>(it - times.begin())][mesh.labels[p]] += six / 6;
     }
-  }
+  });
+  std::vector<std::map<Label, double>> volumes(times.size());
+  for (std::size_t t = 0; t < times.size(); ++t)
+    for (std::size_t l = 0; l < width; ++l) {
+      bool cut = false;
+      double volume = 0;
+      for (unsigned part = 0; part < parts; ++part) {
+        cut = cut || cut_at[part][t * width + l];
+        volume += volume_sum[part][t * width + l];
+      }
+      if (cut) volumes[t][label_of[l]] = volume;
+    }
   return volumes;
 }
 

@@ -7,6 +7,7 @@
 
 #include "mesh/mesh_slice.h"
 #include "refine/guarded_moves.h"
+#include "support/parallel_parts.h"
 
 namespace mesh4d::refine {
 
@@ -18,7 +19,8 @@ constexpr std::size_t kMaxRounds = 4;
 constexpr double kEnough = 1e-2;
 // A round that takes less than this share off the sections' summed error is the last.
 constexpr double kLeastGain = 0.1;
-constexpr double kSmallestMove = 0.02;  // of the largest move
+constexpr double kSmallestMove = 0.02;   // of the largest move
+constexpr std::size_t kMinShare = 4096;  // boundary tetrahedra per thread, at least
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
 // The frames fitted and how a time falls between them: in periodic time the frames within the
@@ -204,6 +206,12 @@ std::vector<double> normal_rhs(const std::vector<double>& j, const std::vector<d
 // The fit's state: the sections' unknowns (a label's μ at a frame), their voxels, and the movers'
 // directions and moves so far.
 class FrameFit {
+  // A mover's share of one section (frame), in volume per unit of its move.
+  struct Share {
+    std::uint32_t mover, frame;
+    double volume;
+  };
+
  public:
   FrameFit(mesh::Mesh4& mesh, const domain::SurfaceOracle& oracle, const InterfaceVertices& movers)
       : mesh_(mesh),
@@ -224,9 +232,9 @@ class FrameFit {
   }
 
   // Each section's volume in the mesh now.
-  std::vector<double> measure() const {
+  std::vector<double> measure(unsigned threads) const {
     std::vector<double> volume(n_, 0);
-    const auto sections = mesh::slice_volumes(mesh_, frames_.times);
+    const auto sections = mesh::slice_volumes(mesh_, frames_.times, threads);
     for (std::size_t f = 0; f < nf_; ++f)
       for (const auto& [l, v] : sections[f])
         if (const std::uint32_t u = unknown(l, f); u != kNone) volume[u] += v;
@@ -251,32 +259,38 @@ class FrameFit {
   }
 
   // Each mover's share of the interface's sections at each frame: its hat function integrated
-  // over them, by how much the section's volume grows per unit of its move.
-  void measure_shares() {
+  // over them, by how much the section's volume grows per unit of its move. The facets are cut
+  // on the job's threads; the shares are then gathered per mover and frame, in facet order, so
+  // that any number of threads gives the same sums.
+  void measure_shares(unsigned threads) {
+    const std::size_t nb = mesh_.boundary.size();
+    const unsigned parts = support::parts_for(nb, kMinShare, threads);
+    std::vector<std::vector<Share>> found(parts);
+    support::run_parts(parts, [&](unsigned part) {
+      const auto [begin, end] = support::part_range(nb, part, parts);
+      for (std::size_t i = begin; i < end; ++i) cut_facet(mesh_.boundary[i], found[part]);
+    });
+    // Counting sort by mover, then each mover's entries merged per frame.
+    std::vector<std::size_t> first(movers_.ids.size() + 1, 0);
+    for (const auto& f : found)
+      for (const Share& s : f) ++first[s.mover + 1];
+    for (std::size_t i = 1; i < first.size(); ++i) first[i] += first[i - 1];
+    std::vector<Share> sorted(first.back());
+    std::vector<std::size_t> next(first.begin(), first.end() - 1);
+    for (const auto& f : found)
+      for (const Share& s : f) sorted[next[s.mover]++] = s;
     shares_.clear();
-    const auto add = [&](std::uint32_t vertex, std::uint32_t f, double w) {
-      const std::uint32_t i = mover_of_[movers_.glued[vertex]];
-      if (i != kNone && w != 0) shares_.push_back({i, f, w});
-    };
-    for (const auto& b : mesh_.boundary) {
-      if (!(b.outer == 0 || b.inner > b.outer)) continue;  // each interface facet once
-      if (oracle_.real_label(b.inner) == oracle_.real_label(b.outer)) continue;  // a cap
-      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-      for (std::uint32_t v : b.vertices) {
-        lo = std::min(lo, mesh_.vertices[v][3]);
-        hi = std::max(hi, mesh_.vertices[v][3]);
-      }
-      // In periodic time a facet past the period's end is cut at the frames one period on.
-      for (int shift = 0; shift < (mesh_.periodic() ? 2 : 1); ++shift) {
-        const double offset = shift * mesh_.period;
-        auto f = static_cast<std::uint32_t>(
-            std::upper_bound(frames_.times.begin(), frames_.times.end(), lo - offset) -
-            frames_.times.begin());
-        for (; f < nf_ && frames_.times[f] + offset <= hi; ++f)
-          for (const auto& tri : section(mesh_, b.vertices, frames_.times[f] + offset)) {
-            const double share = area(tri) / 3;
-            for (const Corner& c : tri) add(c.a, f, share * (1 - c.s)), add(c.b, f, share * c.s);
-          }
+    for (std::size_t m = 0; m < movers_.ids.size(); ++m) {
+      const std::size_t from = shares_.size();
+      for (std::size_t k = first[m]; k < first[m + 1]; ++k) {
+        const Share& s = sorted[k];
+        const auto same =
+            std::find_if(shares_.begin() + static_cast<std::ptrdiff_t>(from), shares_.end(),
+                         [&](const Share& t) { return t.frame == s.frame; });
+        if (same == shares_.end())
+          shares_.push_back(s);
+        else
+          same->volume += s.volume;
       }
     }
   }
@@ -354,6 +368,33 @@ class FrameFit {
                : static_cast<std::uint32_t>(labels_.slot[r] * nf_ + f);
   }
 
+  // The shares one interface facet gives its movers at the frames it spans.
+  void cut_facet(const mesh::BoundaryTetrahedron& b, std::vector<Share>& out) const {
+    if (!(b.outer == 0 || b.inner > b.outer)) return;  // each interface facet once
+    if (oracle_.real_label(b.inner) == oracle_.real_label(b.outer)) return;  // a cap
+    const auto add = [&](std::uint32_t vertex, std::uint32_t f, double w) {
+      const std::uint32_t i = mover_of_[movers_.glued[vertex]];
+      if (i != kNone && w != 0) out.push_back({i, f, w});
+    };
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (std::uint32_t v : b.vertices) {
+      lo = std::min(lo, mesh_.vertices[v][3]);
+      hi = std::max(hi, mesh_.vertices[v][3]);
+    }
+    // In periodic time a facet past the period's end is cut at the frames one period on.
+    for (int shift = 0; shift < (mesh_.periodic() ? 2 : 1); ++shift) {
+      const double offset = shift * mesh_.period;
+      auto f = static_cast<std::uint32_t>(
+          std::upper_bound(frames_.times.begin(), frames_.times.end(), lo - offset) -
+          frames_.times.begin());
+      for (; f < nf_ && frames_.times[f] + offset <= hi; ++f)
+        for (const auto& tri : section(mesh_, b.vertices, frames_.times[f] + offset)) {
+          const double share = area(tri) / 3;
+          for (const Corner& c : tri) add(c.a, f, share * (1 - c.s)), add(c.b, f, share * c.s);
+        }
+    }
+  }
+
   void count_voxels() {
     const domain::LabelImage4& image = oracle_.image();
     const auto& s = image.spacing();
@@ -398,11 +439,7 @@ class FrameFit {
   std::vector<Point4> direction_;        // by mover: a move of 1 shifts its sections by 1
   std::vector<double> moved_;            // by mover: along its direction so far
   std::vector<double> mobility_;         // by mover: the share of its last move made
-  struct Share {
-    std::uint32_t mover, frame;
-    double volume;
-  };
-  std::vector<Share> shares_;
+  std::vector<Share> shares_;            // by mover, then frame: one entry for each
 };
 
 }  // namespace
@@ -414,16 +451,17 @@ FrameVolumeFit fit_frame_volumes(mesh::Mesh4& mesh, const domain::SurfaceOracle&
   FrameFit fit(mesh, oracle, movers);
   if (fit.unknowns() == 0 || movers.ids.empty()) return report;
   report.sections = fit.sections();
-  std::vector<double> volume = fit.measure();
+  const unsigned threads = working_threads(params);
+  std::vector<double> volume = fit.measure(threads);
   report.worst_before = report.worst_after = fit.worst(volume);
   const std::vector<Point4> start = mesh.vertices;
   // The shares are measured once: the moves are a fraction of a voxel.
-  fit.measure_shares();
+  fit.measure_shares(threads);
   double error = fit.total_error(volume);
   while (report.rounds < kMaxRounds && std::abs(report.worst_after) > kEnough) {
     if (!fit.move(fit.solve_for(fit.jacobian(), volume), params)) break;
     ++report.rounds;
-    volume = fit.measure();
+    volume = fit.measure(threads);
     report.worst_after = fit.worst(volume);
     // Where the guard or the mesh leaves a section out of reach (an end frame of an image closed
     // without its caps), another round costs as much and gives nothing.

@@ -43,6 +43,49 @@ TEST(MeshSlice, VolumesAtManyTimesInOnePassAreTheSlicersOneByOne) {
   EXPECT_NEAR(many[3].at(1) + many[3].at(2), 3.0, 1e-12);
 }
 
+// The unit 4-cube as n⁴ Kuhn boxes (each with its own corners: slice volumes need no conformity).
+Mesh4 kuhn_grid(int n) {
+  const Mesh4 box = kuhn_box(1.0 / n, 1.0 / n, 1.0 / n);
+  Mesh4 m;
+  for (int c = 0; c < n * n * n * n; ++c) {
+    const auto base = static_cast<std::uint32_t>(m.vertices.size());
+    const double shift[4] = {double(c % n) / n, double(c / n % n) / n, double(c / n / n % n) / n,
+                             double(c / n / n / n)};
+    for (Point4 p : box.vertices) {
+      for (int a = 0; a < 4; ++a) p[a] = a < 3 ? p[a] + shift[a] : (p[a] + shift[a]) / n;
+      m.vertices.push_back(p);
+      m.vertex_kinds.push_back(VertexKind::free);
+    }
+    for (auto cell : box.pentatopes) {
+      for (auto& v : cell) v += base;
+      m.pentatopes.push_back(cell);
+      m.labels.push_back(1);
+    }
+  }
+  return m;
+}
+
+// On several threads each part sums its own pentatopes: the volumes are the one thread's, to
+// rounding, and every label with a section is listed at every time. 24 × 6⁴ pentatopes make
+// several shares of 4,096.
+TEST(MeshSlice, VolumesOnSeveralThreadsAreTheOneThreads) {
+  Mesh4 m = kuhn_grid(6);
+  for (std::size_t i = 0; i < m.labels.size(); i += 5) m.labels[i] = 3;
+  for (std::size_t i = 0; i < m.labels.size(); i += 7) m.labels[i] = 9;
+  const std::vector<double> times{-0.5, 0.0, 0.03, 0.25, 0.5, 0.5 + 1e-9, 0.97, 1.0};
+  const auto one = slice_volumes(m, times, 1);
+  const auto four = slice_volumes(m, times, 4);
+  ASSERT_EQ(four.size(), one.size());
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    ASSERT_EQ(four[k].size(), one[k].size()) << "t = " << times[k];
+    for (const auto& [l, v] : one[k]) EXPECT_NEAR(four[k].at(l), v, 1e-12) << "label " << l;
+  }
+  double whole = 0;
+  for (const auto& [l, v] : four[3]) whole += v;
+  EXPECT_NEAR(whole, 1.0, 1e-12);
+  EXPECT_EQ(four[3].size(), 3u);
+}
+
 TEST(MeshSlice, LabelsAreKeptApart) {
   Mesh4 m = kuhn_box(1, 1, 1);
   for (std::size_t i = 0; i < m.labels.size(); i += 2) m.labels[i] = 2;

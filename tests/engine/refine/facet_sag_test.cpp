@@ -130,5 +130,34 @@ TEST(FacetSag, OnlyTheBoundaryVerticesMoveAndTheCapsStay) {
   expect_moves_kept_quality(on, off, params_with(true));
 }
 
+// The offset and the frames' fit on four threads move every vertex as on one: the facets are
+// measured and the sections cut in parts, and the parts joined in order.
+TEST(FacetSag, SeveralThreadsMoveTheVerticesAsOneDoes) {
+  domain::TimeCaps caps;
+  std::string warning;
+  domain::LabelImage4 capped =
+      domain::add_time_caps(small_ventricle(), domain::cap_frames(8, 8), &caps, &warning);
+  domain::validate_and_close(capped);
+  const domain::SurfaceOracle oracle(capped, caps);
+  const RefineResult refined = refine(oracle, params_with(false));
+  ASSERT_GT(refined.mesh.boundary.size(), 4u * 4096) << "too few facets for four shares";
+  mesh::Mesh4 one = refined.mesh, four = refined.mesh;
+  RefineParams params = params_with(true);
+  const SagOffset by_one = offset_facet_sag(one, oracle, params);
+  params.threads = 4;
+  const SagOffset by_four = offset_facet_sag(four, oracle, params);
+  EXPECT_GT(by_one.moved, 0u);
+  EXPECT_GT(by_one.fit.rounds, 0u);
+  EXPECT_EQ(by_four.moved, by_one.moved);
+  EXPECT_EQ(by_four.held, by_one.held);
+  EXPECT_EQ(by_four.fit.rounds, by_one.fit.rounds);
+  EXPECT_NEAR(by_four.fit.worst_after, by_one.fit.worst_after, 1e-9);
+  ASSERT_EQ(four.vertices.size(), one.vertices.size());
+  double farthest = 0;
+  for (std::size_t v = 0; v < one.vertices.size(); ++v)
+    farthest = std::max(farthest, distance(one.vertices[v], four.vertices[v]));
+  EXPECT_LT(farthest, 1e-9);
+}
+
 }  // namespace
 }  // namespace mesh4d::refine
