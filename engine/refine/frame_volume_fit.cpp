@@ -260,8 +260,8 @@ class FrameFit {
 
   // Each mover's share of the interface's sections at each frame: its hat function integrated
   // over them, by how much the section's volume grows per unit of its move. The facets are cut
-  // on the job's threads; the shares are then gathered per mover and frame, in facet order, so
-  // that any number of threads gives the same sums.
+  // on the job's threads, each part a range of them, and the parts joined in order: the shares
+  // come in facet order on any number of threads.
   void measure_shares(unsigned threads) {
     const std::size_t nb = mesh_.boundary.size();
     const unsigned parts = support::parts_for(nb, kMinShare, threads);
@@ -270,29 +270,9 @@ class FrameFit {
       const auto [begin, end] = support::part_range(nb, part, parts);
       for (std::size_t i = begin; i < end; ++i) cut_facet(mesh_.boundary[i], found[part]);
     });
-    // Counting sort by mover, then each mover's entries merged per frame.
-    std::vector<std::size_t> first(movers_.ids.size() + 1, 0);
-    for (const auto& f : found)
-      for (const Share& s : f) ++first[s.mover + 1];
-    for (std::size_t i = 1; i < first.size(); ++i) first[i] += first[i - 1];
-    std::vector<Share> sorted(first.back());
-    std::vector<std::size_t> next(first.begin(), first.end() - 1);
-    for (const auto& f : found)
-      for (const Share& s : f) sorted[next[s.mover]++] = s;
-    shares_.clear();
-    for (std::size_t m = 0; m < movers_.ids.size(); ++m) {
-      const std::size_t from = shares_.size();
-      for (std::size_t k = first[m]; k < first[m + 1]; ++k) {
-        const Share& s = sorted[k];
-        const auto same =
-            std::find_if(shares_.begin() + static_cast<std::ptrdiff_t>(from), shares_.end(),
-                         [&](const Share& t) { return t.frame == s.frame; });
-        if (same == shares_.end())
-          shares_.push_back(s);
-        else
-          same->volume += s.volume;
-      }
-    }
+    shares_ = std::move(found[0]);
+    for (unsigned part = 1; part < parts; ++part)
+      shares_.insert(shares_.end(), found[part].begin(), found[part].end());
   }
 
   // J[(l, f), (m, g)]: how the section of l at frame f grows with μ of m at frame g, through the
@@ -301,17 +281,15 @@ class FrameFit {
   std::vector<double> jacobian() const {
     std::vector<double> j(n_ * n_, 0);
     for (const Share& s : shares_) {
-      const auto& side = movers_.sides[s.mover];
+      const Reach& r = reach_[s.mover];
       const double w = s.volume * mobility_[s.mover];
       if (w == 0) continue;
       for (int p = 0; p < 2; ++p) {
-        const std::uint32_t row = unknown(side[p], s.frame);
-        if (row == kNone) continue;
+        if (r.first_row[p] == kNone) continue;
+        double* row = &j[(std::size_t{r.first_row[p]} + s.frame) * n_];
         for (int q = 0; q < 2; ++q)
-          for (const auto& [g, h] : frames_.hat(mesh_.vertices[movers_.ids[s.mover]][3])) {
-            const std::uint32_t col = unknown(side[q], g);
-            if (col != kNone && h != 0) j[std::size_t{row} * n_ + col] += (p == q ? 1 : -1) * w * h;
-          }
+          for (const auto& [col, h] : r.columns[q])
+            if (col != kNone && h != 0) row[col] += (p == q ? 1 : -1) * w * h;
       }
     }
     return j;
@@ -425,6 +403,18 @@ class FrameFit {
       mover_of_[movers_.ids[i]] = i;
       for (int a = 0; a < 3; ++a) direction_[i][a] = nrm[a] / spatial;
     }
+    // Where each mover's μs come from and go to: its time does not change (the moves are in
+    // space), so its hat weights are found once.
+    reach_.assign(movers_.ids.size(), Reach{});
+    for (std::uint32_t i = 0; i < movers_.ids.size(); ++i) {
+      const auto& side = movers_.sides[i];
+      const auto hat = frames_.hat(mesh_.vertices[movers_.ids[i]][3]);
+      for (int p = 0; p < 2; ++p) {
+        reach_[i].first_row[p] = unknown(side[p], 0);
+        for (int k = 0; k < 2; ++k)
+          reach_[i].columns[p][k] = {unknown(side[p], hat[k].first), hat[k].second};
+      }
+    }
   }
 
   mesh::Mesh4& mesh_;
@@ -439,7 +429,14 @@ class FrameFit {
   std::vector<Point4> direction_;        // by mover: a move of 1 shifts its sections by 1
   std::vector<double> moved_;            // by mover: along its direction so far
   std::vector<double> mobility_;         // by mover: the share of its last move made
-  std::vector<Share> shares_;            // by mover, then frame: one entry for each
+  // A mover's rows in J (a side's label at frame 0, or kNone; a frame adds its index) and its
+  // columns: each side's label at the two frames of its hat, with their weights.
+  struct Reach {
+    std::array<std::uint32_t, 2> first_row{kNone, kNone};
+    std::array<std::array<std::pair<std::uint32_t, double>, 2>, 2> columns{};
+  };
+  std::vector<Reach> reach_;   // by mover
+  std::vector<Share> shares_;  // in facet order
 };
 
 }  // namespace
