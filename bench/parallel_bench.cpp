@@ -34,6 +34,7 @@ struct Run {
   bool valid;
   std::array<double, refine::kStages> stages;
   double work, rolled_back;
+  double sag_offset, frame_fit, fit_rounds;  // of the extraction stage (refine/facet_sag.h)
 };
 
 double median(std::vector<double> v) {
@@ -86,7 +87,8 @@ int main(int argc, char** argv) {
     std::array<std::vector<double>, refine::kStages> stages;
     std::vector<double> serial;
     std::vector<double> work, rolled_back, waiting;  // thread-seconds of the parallel phases
-    std::vector<std::uint64_t> fingerprints;         // one per seed, in seed order
+    std::vector<double> sag_offset, frame_fit, fit_rounds;
+    std::vector<std::uint64_t> fingerprints;  // one per seed, in seed order
     bool valid = true;
   };
   std::vector<Series> series(threads.size());
@@ -119,7 +121,10 @@ int main(int argc, char** argv) {
                    delaunay::check_triangulation(refiner.triangulation()).ok,
                    r.stages.seconds,
                    r.work_seconds,
-                   r.rolled_back_seconds};
+                   r.rolled_back_seconds,
+                   r.sag.seconds,
+                   r.sag.fit.seconds,
+                   double(r.sag.fit.rounds)};
       });
       if (!run) {
         s.valid = false;
@@ -147,6 +152,9 @@ int main(int argc, char** argv) {
       stages.seconds = run->stages;
       for (int st = 0; st < refine::kStages; ++st) s.stages[st].push_back(run->stages[st]);
       s.serial.push_back(stages.serial() / run->seconds);
+      s.sag_offset.push_back(run->sag_offset);
+      s.frame_fit.push_back(run->frame_fit);
+      s.fit_rounds.push_back(run->fit_rounds);
     }
   }
   double reference = 0;
@@ -184,6 +192,17 @@ int main(int argc, char** argv) {
     for (int st = 0; st < refine::kStages; ++st)
       std::printf(" %.3f |", median(series[i].stages[st]));
     std::printf(" %.1f %% |\n", 100 * median(series[i].serial));
+  }
+  // The extraction stage's own steps: the boundary's sag offset, and within it the frames'
+  // volume fit (refine/frame_volume_fit.h), which runs in rounds.
+  std::printf(
+      "\nIn the extraction stage, median seconds\n| threads | sag offset | of which the frames' "
+      "fit | fit rounds |\n|---|---|---|---|\n");
+  for (std::size_t i = 0; i < threads.size(); ++i) {
+    const Series& s = series[i];
+    if (s.seconds.empty()) continue;
+    std::printf("| %u | %.3f | %.3f | %.0f |\n", threads[i], median(s.sag_offset),
+                median(s.frame_fit), median(s.fit_rounds));
   }
   // Where the workers' time goes in the parallel phases (Progress): operations that committed
   // or had nothing to do, operations rolled back, waits for a lock's holder or the contention
