@@ -223,6 +223,7 @@ class FrameFit {
         n_(labels_.count * nf_) {
     count_voxels();
     choose_directions();
+    find_reach();
   }
 
   std::size_t unknowns() const { return n_; }
@@ -403,8 +404,11 @@ class FrameFit {
       mover_of_[movers_.ids[i]] = i;
       for (int a = 0; a < 3; ++a) direction_[i][a] = nrm[a] / spatial;
     }
-    // Where each mover's μs come from and go to: its time does not change (the moves are in
-    // space), so its hat weights are found once.
+  }
+
+  // Where each mover's μs come from and go to: its time does not change (the moves are in
+  // space), so its hat weights are found once.
+  void find_reach() {
     reach_.assign(movers_.ids.size(), Reach{});
     for (std::uint32_t i = 0; i < movers_.ids.size(); ++i) {
       const auto& side = movers_.sides[i];
