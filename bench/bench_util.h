@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 #include "mesh/mesh4.h"
 
@@ -52,38 +53,61 @@ inline std::uint64_t mesh_fingerprint(const mesh::Mesh4& m) {
   return h;
 }
 
+/// Runs `work(0)` … `work(n − 1)` in n forked children at once (each a process of its own, as
+/// independent jobs on one machine are) and returns their results in that order.
+template <typename T, typename F>
+std::vector<std::optional<T>> run_in_children_at_once(unsigned n, F&& work) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  struct Child {
+    pid_t pid = -1;
+    int fd = -1;
+  };
+  std::vector<Child> children(n);
+  for (unsigned i = 0; i < n; ++i) {
+    int fd[2];
+    if (pipe(fd) != 0) continue;
+    const pid_t pid = fork();
+    if (pid == 0) {
+      close(fd[0]);
+      const T result = work(i);
+      const auto* bytes = reinterpret_cast<const char*>(&result);
+      for (std::size_t at = 0; at < sizeof result;) {
+        const ssize_t m = write(fd[1], bytes + at, sizeof result - at);
+        if (m <= 0) _exit(1);
+        at += static_cast<std::size_t>(m);
+      }
+      _exit(0);
+    }
+    close(fd[1]);
+    if (pid < 0) {
+      close(fd[0]);
+      continue;
+    }
+    children[i] = {pid, fd[0]};
+  }
+  std::vector<std::optional<T>> out(n);
+  for (unsigned i = 0; i < n; ++i) {
+    if (children[i].pid < 0) continue;
+    T result;
+    auto* bytes = reinterpret_cast<char*>(&result);
+    std::size_t at = 0;
+    while (at < sizeof result) {
+      const ssize_t m = read(children[i].fd, bytes + at, sizeof result - at);
+      if (m <= 0) break;
+      at += static_cast<std::size_t>(m);
+    }
+    close(children[i].fd);
+    waitpid(children[i].pid, nullptr, 0);
+    if (at == sizeof result) out[i] = result;
+  }
+  return out;
+}
+
 /// Runs `work` in a forked child, so that its peak memory is its own, and returns its result
 /// (plain data, sent back through a pipe); nothing when the child failed or threw.
 template <typename T, typename F>
 std::optional<T> run_in_child(F&& work) {
-  static_assert(std::is_trivially_copyable_v<T>);
-  int fd[2];
-  if (pipe(fd) != 0) return std::nullopt;
-  const pid_t pid = fork();
-  if (pid == 0) {
-    close(fd[0]);
-    const T result = work();
-    const auto* bytes = reinterpret_cast<const char*>(&result);
-    for (std::size_t at = 0; at < sizeof result;) {
-      const ssize_t n = write(fd[1], bytes + at, sizeof result - at);
-      if (n <= 0) _exit(1);
-      at += static_cast<std::size_t>(n);
-    }
-    _exit(0);
-  }
-  close(fd[1]);
-  T out;
-  auto* bytes = reinterpret_cast<char*>(&out);
-  std::size_t at = 0;
-  while (at < sizeof out) {
-    const ssize_t n = read(fd[0], bytes + at, sizeof out - at);
-    if (n <= 0) break;
-    at += static_cast<std::size_t>(n);
-  }
-  close(fd[0]);
-  waitpid(pid, nullptr, 0);
-  if (at != sizeof out) return std::nullopt;
-  return out;
+  return run_in_children_at_once<T>(1, [&](unsigned) { return work(); })[0];
 }
 
 }  // namespace mesh4d::bench

@@ -4,11 +4,16 @@
 // repeat, the thread counts interleaved): pentatopes, time, pentatopes/s, speedup (of the
 // median times) and paired speedup (over seeds, the median of a seed's time in the first row
 // over its time in this one), rollbacks, contention and idle thread-seconds (and the workers'
-// time split: work, rolled-back work, waiting, idle), and the time spent
-// in the rules (the parallel phases; the pinch counts and the repair's insertions also use the
-// threads, the relabeling and extraction run on one), with the output's quality as a check.
+// time split: work, rolled-back work, waiting, idle), the time spent in the rules (the parallel
+// phases) and in each stage (the table says which run on one thread), with the output's quality
+// as a check.
 //
-//   parallel_bench [--threads 1,2,4,8] [--repeat 3] [--delta 5] [--seed 1]
+// With --ceiling on, the machine's own limit too: for each thread count N above 1, N one-thread
+// runs of the same seed at once, as N independent processes (no shared mesh, no locks). Their
+// throughput against one run alone is the most that N workers could give on this machine with
+// this memory traffic; the code's speedup is set against it.
+//
+//   parallel_bench [--threads 1,2,4,8] [--repeat 3] [--delta 5] [--seed 1] [--ceiling on]
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -50,6 +55,7 @@ int main(int argc, char** argv) {
   int repeat = 3;
   double delta = 5;
   std::uint64_t seed = refine::RefineParams{}.seed;
+  bool ceiling = false;
   for (int i = 1; i + 1 < argc; i += 2) {
     if (std::strcmp(argv[i], "--threads") == 0) {
       threads.clear();
@@ -62,6 +68,8 @@ int main(int argc, char** argv) {
       delta = std::atof(argv[i + 1]);
     } else if (std::strcmp(argv[i], "--seed") == 0) {
       seed = std::strtoull(argv[i + 1], nullptr, 10);
+    } else if (std::strcmp(argv[i], "--ceiling") == 0) {
+      ceiling = std::strcmp(argv[i + 1], "on") == 0;
     }
   }
   auto image = domain::beating_ventricle_phantom();
@@ -78,6 +86,35 @@ int main(int argc, char** argv) {
       "| threads | pentatopes | time s | pentatopes/s | speedup | paired speedup | rules s | "
       "rollbacks | contention s | idle s | insertions R1 / R2 / R3 / R4 / R5 | R5 removals | max ρ "
       "| min τ | valid |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  const auto refine_once = [&](unsigned t, std::uint64_t run_seed) {
+    refine::RefineParams params;
+    params.delta = delta;
+    params.threads = t;
+    // One seed per repeat: a parallel mesh depends on timing, so only an average over seeds
+    // compares it fairly with the sequential one (whose mesh a single seed fixes).
+    params.seed = run_seed;
+    refine::Refiner refiner(oracle, params);
+    const auto r = refiner.run();
+    return Run{r.stats.pentatopes,
+               r.rollbacks,
+               {r.stats.insertions[0], r.stats.insertions[1], r.stats.insertions[2],
+                r.stats.insertions[3], r.stats.insertions[4]},
+               r.stats.removals[4],
+               bench::mesh_fingerprint(r.mesh),
+               r.stats.elapsed_seconds,
+               r.rules_seconds,
+               r.contention_seconds,
+               r.idle_seconds,
+               r.stats.radius_edge_ratio.max,
+               r.stats.normalized_volume.min,
+               delaunay::check_triangulation(refiner.triangulation()).ok,
+               r.stages.seconds,
+               r.work_seconds,
+               r.rolled_back_seconds,
+               r.sag.seconds,
+               r.sag.fit.seconds,
+               double(r.sag.fit.rounds)};
+  };
   // Interleaved: for each seed, every thread count in turn, so that a slower spell of a shared
   // machine (minutes long, ±15 %) weighs on every row alike rather than on the rows run in it.
   struct Series {
@@ -89,6 +126,9 @@ int main(int argc, char** argv) {
     std::vector<double> work, rolled_back, waiting;  // thread-seconds of the parallel phases
     std::vector<double> sag_offset, frame_fit, fit_rounds;
     std::vector<std::uint64_t> fingerprints;  // one per seed, in seed order
+    // --ceiling: the one-thread runs at once (their median time), the throughput of that many
+    // against one alone, and the paired speedup as a share of it; per seed.
+    std::vector<double> at_once, ceiling, of_ceiling;
     bool valid = true;
   };
   std::vector<Series> series(threads.size());
@@ -97,35 +137,8 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < threads.size(); ++i) {
       const unsigned t = threads[i];
       Series& s = series[i];
-      const auto run = bench::run_in_child<Run>([&] {
-        refine::RefineParams params;
-        params.delta = delta;
-        params.threads = t;
-        // One seed per repeat: a parallel mesh depends on timing, so only an average over seeds
-        // compares it fairly with the sequential one (whose mesh a single seed fixes).
-        params.seed = seed + static_cast<std::uint64_t>(k);
-        refine::Refiner refiner(oracle, params);
-        const auto r = refiner.run();
-        return Run{r.stats.pentatopes,
-                   r.rollbacks,
-                   {r.stats.insertions[0], r.stats.insertions[1], r.stats.insertions[2],
-                    r.stats.insertions[3], r.stats.insertions[4]},
-                   r.stats.removals[4],
-                   bench::mesh_fingerprint(r.mesh),
-                   r.stats.elapsed_seconds,
-                   r.rules_seconds,
-                   r.contention_seconds,
-                   r.idle_seconds,
-                   r.stats.radius_edge_ratio.max,
-                   r.stats.normalized_volume.min,
-                   delaunay::check_triangulation(refiner.triangulation()).ok,
-                   r.stages.seconds,
-                   r.work_seconds,
-                   r.rolled_back_seconds,
-                   r.sag.seconds,
-                   r.sag.fit.seconds,
-                   double(r.sag.fit.rounds)};
-      });
+      const auto run = bench::run_in_child<Run>(
+          [&] { return refine_once(t, seed + static_cast<std::uint64_t>(k)); });
       if (!run) {
         s.valid = false;
         s.fingerprints.push_back(0);  // keeps the list in seed order
@@ -155,6 +168,20 @@ int main(int argc, char** argv) {
       s.sag_offset.push_back(run->sag_offset);
       s.frame_fit.push_back(run->frame_fit);
       s.fit_rounds.push_back(run->fit_rounds);
+      if (ceiling && t > 1 && sequential > 0) {
+        const auto batch = bench::run_in_children_at_once<Run>(
+            t, [&](unsigned) { return refine_once(1, seed + static_cast<std::uint64_t>(k)); });
+        double runs_per_second = 0;
+        std::vector<double> times;
+        for (const auto& b : batch)
+          if (b) runs_per_second += 1 / b->seconds, times.push_back(b->seconds);
+        if (times.size() == t) {
+          const double limit = sequential * runs_per_second;
+          s.at_once.push_back(median(times));
+          s.ceiling.push_back(limit);
+          s.of_ceiling.push_back(sequential / run->seconds / limit);
+        }
+      }
     }
   }
   double reference = 0;
@@ -217,6 +244,20 @@ int main(int argc, char** argv) {
     std::printf("| %u | %.2f | %.2f | %.2f | %.2f | %.1f %% |\n", threads[i], median(s.work),
                 median(s.rolled_back), median(s.waiting), median(s.idle),
                 100 * median(s.work) / (threads[i] * median(s.rules)));
+  }
+  if (ceiling && !series.empty() && !series[0].seconds.empty()) {
+    std::printf(
+        "\nThe machine's own limit: N one-thread runs of the seed at once, as N independent "
+        "processes; ceiling = one run alone × the runs per second of the N\n| threads | one run "
+        "alone s | N at once, median s | ceiling speedup | paired speedup | share of the ceiling "
+        "|\n|---|---|---|---|---|---|\n");
+    for (std::size_t i = 0; i < threads.size(); ++i) {
+      const Series& s = series[i];
+      if (s.ceiling.empty()) continue;
+      std::printf("| %u | %.2f | %.2f | %.2f | %.2f | %.0f %% |\n", threads[i],
+                  median(series[0].seconds), median(s.at_once), median(s.ceiling),
+                  median(s.speedup), 100 * median(s.of_ceiling));
+    }
   }
   // Each run's mesh (bench::mesh_fingerprint): with one thread, a seed fixes the mesh, so two
   // builds that refine alike print the same lines (scripts/mesh_hashes compares them).
