@@ -54,6 +54,12 @@ std::optional<std::vector<PinchedTriangle>> PinchRepair::run(const Drain& drain,
     min_spacing /= 2;
     policy.finer();
   }
+  // After the last round's rules, one more count from the facets they changed: the relabeling
+  // needs the pinches, and a full scan of its own cost it a pass over every boundary facet.
+  if (!counted_since && logging_) {
+    count();
+    counted_since = true;
+  }
   operation_.set_observer(nullptr);
   logging_ = false;
   log_.clear();

@@ -26,8 +26,8 @@ class PinchRepair {
 
   PinchRepair(RefinementState& state, const PinchScan& scan, Operation& operation);
 
-  /// The repair's rounds. Returns the pinches of its last count when no insertion followed it
-  /// (otherwise nothing: they must be counted again).
+  /// The repair's rounds. Returns the pinches left, counted after the last round's rules;
+  /// nothing when the repair never counted (none was asked for).
   std::optional<std::vector<PinchedTriangle>> run(const Drain& drain, const Insert& insert);
 
   /// Tests: every count after the first is also taken by a full scan, and a difference (in the
