@@ -27,8 +27,7 @@ PinchRepair::PinchRepair(RefinementState& state, const PinchScan& scan, Operatio
       operation_(operation),
       log_(state, std::max(state.params.threads, 1u)) {}
 
-std::optional<std::vector<PinchedTriangle>> PinchRepair::run(const Drain& drain,
-                                                             const Insert& insert) {
+std::vector<PinchedTriangle> PinchRepair::run(const Drain& drain, const Insert& insert) {
   // Points closer than half of Δ to a sampled one are allowed only when nothing else is left
   // or the count stalls, down to Δ/16, and a finer level that makes the count grow ends the
   // repair (RepairPolicy). (Starting at a quarter of Δ, the short edges of the points squeezed
@@ -36,7 +35,7 @@ std::optional<std::vector<PinchedTriangle>> PinchRepair::run(const Drain& drain,
   // mesh after the rules, for the same fidelity.)
   const double delta = state_.params.delta;
   double min_spacing = 0.5 * delta;
-  bool counted_since = false;  // the last count is still current
+  bool counted_since = false;  // no insertion since the last count
   RepairPolicy policy;
   for (int round = 0; round < kRepairRounds && min_spacing >= delta / 16;) {
     // The count a full scan gives (the first one is a scan; later ones follow the facets that
@@ -56,15 +55,11 @@ std::optional<std::vector<PinchedTriangle>> PinchRepair::run(const Drain& drain,
   }
   // After the last round's rules, one more count from the facets they changed: the relabeling
   // needs the pinches, and a full scan of its own cost it a pass over every boundary facet.
-  if (!counted_since && logging_) {
-    count();
-    counted_since = true;
-  }
+  if (!counted_since) count();
   operation_.set_observer(nullptr);
   logging_ = false;
   log_.clear();
   counts_.clear();
-  if (!counted_since) return std::nullopt;
   return std::move(known_);
 }
 

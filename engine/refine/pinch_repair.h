@@ -7,7 +7,6 @@
 #pragma once
 
 #include <functional>
-#include <optional>
 #include <vector>
 
 #include "refine/facet_log.h"
@@ -26,9 +25,8 @@ class PinchRepair {
 
   PinchRepair(RefinementState& state, const PinchScan& scan, Operation& operation);
 
-  /// The repair's rounds. Returns the pinches left, counted after the last round's rules;
-  /// nothing when the repair never counted (none was asked for).
-  std::optional<std::vector<PinchedTriangle>> run(const Drain& drain, const Insert& insert);
+  /// The repair's rounds. Returns the pinches left, counted after the last round's rules.
+  std::vector<PinchedTriangle> run(const Drain& drain, const Insert& insert);
 
   /// Tests: every count after the first is also taken by a full scan, and a difference (in the
   /// pinches, or in any triangle's count) throws std::logic_error.

@@ -176,11 +176,11 @@ struct Refiner::Pipeline {
   // and refine again; returns the time it took.
   double repair_pinches(ProgressSink* sink) {
     const auto t0 = std::chrono::steady_clock::now();
-    auto last = repair.run([&] { drain(sink); },
+    auto left = repair.run([&] { drain(sink); },
                            [&](const std::vector<RepairPoint>& points, double spacing) {
                              return parallel.insert_points(points, spacing);
                            });
-    if (last) relabeling.set_current(std::move(*last));
+    relabeling.set_current(std::move(left));
     return seconds_since(t0);
   }
 
