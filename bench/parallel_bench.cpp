@@ -168,7 +168,8 @@ int main(int argc, char** argv) {
       s.sag_offset.push_back(run->sag_offset);
       s.frame_fit.push_back(run->frame_fit);
       s.fit_rounds.push_back(run->fit_rounds);
-      if (ceiling && t > 1 && sequential > 0) {
+      // (Against one thread alone: the first row must be one thread.)
+      if (ceiling && t > 1 && threads[0] == 1 && sequential > 0) {
         const auto batch = bench::run_in_children_at_once<Run>(
             t, [&](unsigned) { return refine_once(1, seed + static_cast<std::uint64_t>(k)); });
         double runs_per_second = 0;
