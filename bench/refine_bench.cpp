@@ -1,6 +1,7 @@
 // refine_bench: sequential refinement on the phantoms, one row per run in the form of the
 // paper's Table 2, plus pentatopes per second, insertions, and peak memory; the paper's rule
 // order against R3-first on the same input. Each run is a forked child (its own peak memory).
+// `--threads N` runs the parallel refiner instead, for the same checks on its meshes.
 //
 // The paper's figures for scale: 145 pentatopes/s on its 40k-pentatope hypersphere, 184 with
 // R3 first; Pat1 at δ = 5: 49,479 pentatopes, 4,709 vertices, 30,758 boundary tetrahedra.
@@ -181,6 +182,9 @@ bool g_frame_fit = true;
 double g_junction_spacing = refine::RefineParams{}.junction_spacing;
 std::uint64_t g_seed = refine::RefineParams{}.seed;
 std::vector<std::uint64_t> g_seeds;
+// --threads N: the same rows with the parallel refiner on N threads (its meshes must pass the
+// same checks; with more than one thread a seed does not fix the mesh).
+unsigned g_threads = 1;
 
 struct OverSeeds {
   std::string name, order;
@@ -197,6 +201,7 @@ bool mesh_row(const std::string& name, const domain::LabelImage4& image, double 
   params.rule_order = order;
   params.junction_spacing = g_junction_spacing;
   params.seed = seed;
+  params.threads = g_threads;
   params.sag_offset = g_sag_offset;
   params.fit_frame_volumes = g_frame_fit;
   const Flat f = run_child(image, params);
@@ -281,6 +286,8 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--junction-spacing") == 0)
       g_junction_spacing = std::atof(argv[i + 1]);
     if (std::strcmp(argv[i], "--seed") == 0) g_seed = std::strtoull(argv[i + 1], nullptr, 10);
+    if (std::strcmp(argv[i], "--threads") == 0)
+      g_threads = static_cast<unsigned>(std::max(1L, std::strtol(argv[i + 1], nullptr, 10)));
     if (std::strcmp(argv[i], "--seeds") == 0)
       for (const char* p = argv[i + 1]; *p;) {
         char* end = nullptr;
@@ -296,9 +303,10 @@ int main(int argc, char** argv) {
     seeds.append(std::to_string(g_seeds[k]));
   }
   std::printf(
-      "Sequential refinement (R1-R5), one thread, junction spacing %g delta, %s, %s time, sag "
+      "%s (R1-R5), %u thread%s, junction spacing %g delta, %s, %s time, sag "
       "offset %s, frame volume fit %s\n",
-      g_junction_spacing, seeds.c_str(),
+      g_threads > 1 ? "Parallel refinement" : "Sequential refinement", g_threads,
+      g_threads > 1 ? "s" : "", g_junction_spacing, seeds.c_str(),
       g_periodic ? "periodic" : (g_time_caps ? "open (time caps)" : "open (no caps)"),
       g_sag_offset ? "on" : "off", g_sag_offset && g_frame_fit ? "on" : "off");
   std::printf(

@@ -46,6 +46,7 @@ class ManifoldRelabeling {
   /// the image joins to another is removed or bridged, and one the image splits is cut. With
   /// `leave_links`, a cut may leave a few links failing where the mending cannot close them
   /// without joining the pieces again (a vertex both touch): they are listed in the outcome.
+  /// Where no cut separates a merged piece, the outcome has surface samples to insert there.
   PieceMatching match_image_pieces(bool leave_links = false);
 
  private:
@@ -63,6 +64,12 @@ class ManifoldRelabeling {
   // walks too far to tell); piece_matching.cpp.
   bool reaches(const std::vector<delaunay::CellId>& from, domain::Label label,
                const std::function<bool(delaunay::CellId)>& goal) const;
+  // Where ∂Ω crosses the Voronoi edges between `island`'s pentatopes (which stand for image
+  // piece `piece`) and their neighbors of the region that stand for another, appended to `out`;
+  // piece_matching.cpp.
+  void contact_samples(const std::vector<delaunay::CellId>& island, std::uint32_t piece,
+                       const std::vector<std::uint32_t>& image_piece,
+                       std::vector<RepairPoint>& out) const;
   // Applies `moves` when they may move, pinch nothing more and keep the new boundary near ∂Ω.
   // Links they break are mended by run() around them; they are undone (with the mending)
   // unless no more links fail than before and `done` holds after them.

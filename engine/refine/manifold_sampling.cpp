@@ -77,17 +77,19 @@ void ManifoldSampling::samples_at(const NonManifoldVertex& f, double spacing, bo
 }
 
 ManifoldSampling::Outcome ManifoldSampling::run(std::vector<NonManifoldVertex> failing,
-                                                const Drain& drain, const Insert& insert) {
+                                                const Drain& drain, const Insert& insert,
+                                                std::vector<RepairPoint> extra) {
   Outcome outcome;
   const double spacing = kSpacing * state_.params.delta;
   StarLog log(state_, workers_);
   std::size_t last = failing.size() + 1;
-  for (; outcome.rounds < kRounds && !failing.empty(); ++outcome.rounds) {
+  for (; outcome.rounds < kRounds && (!failing.empty() || !extra.empty()); ++outcome.rounds) {
     // One sample per failing pair (the farthest: the facet the rules left coarsest), or all of
     // them when the last round did not help.
     const bool every = failing.size() >= last;
     last = failing.size();
-    std::vector<RepairPoint> points;
+    std::vector<RepairPoint> points = std::move(extra);
+    extra.clear();
     for (const NonManifoldVertex& f : failing) samples_at(f, spacing, every, points);
     operation_.set_observer(&log);
     const std::size_t inserted = insert(points, spacing);

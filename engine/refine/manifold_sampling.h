@@ -34,7 +34,9 @@ class ManifoldSampling {
     std::vector<NonManifoldVertex> failing;  // left
   };
   /// Rounds until no (vertex, label) pair of `failing` is left, or a round inserts nothing.
-  Outcome run(std::vector<NonManifoldVertex> failing, const Drain& drain, const Insert& insert);
+  /// The first round also inserts `extra` (surface points another step asks for).
+  Outcome run(std::vector<NonManifoldVertex> failing, const Drain& drain, const Insert& insert,
+              std::vector<RepairPoint> extra = {});
 
  private:
   // The surface centers of f's label's restricted facets through f's vertex, none within

@@ -1,6 +1,7 @@
 #include "refine/piece_matching.h"
 
 #include <algorithm>
+#include <iterator>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -181,6 +182,39 @@ bool ManifoldRelabeling::apply_mended(const std::vector<Move>& moves,
   return true;
 }
 
+void ManifoldRelabeling::contact_samples(const std::vector<CellId>& island, std::uint32_t piece,
+                                         const std::vector<std::uint32_t>& image_piece,
+                                         std::vector<RepairPoint>& out) const {
+  const auto& st = state_.tri.store();
+  // Where ∂Ω crosses the Voronoi edge between a and b, from both ends.
+  const auto sample = [&](CellId a, CellId b) {
+    if (!state_.info[a].finite || !state_.info[b].finite) return;
+    for (const auto& [from, to] : {std::pair{a, b}, std::pair{b, a}}) {
+      const auto z = state_.oracle.first_crossing(state_.info[from].center, state_.info[to].center);
+      if (!z) continue;
+      RepairPoint r{z->point, {from, {}}};
+      std::copy(std::begin(st.cell(from).v), std::end(st.cell(from).v), r.hint.v);
+      out.push_back(r);
+    }
+  };
+  // The region's pentatopes that join the island to the rest: those next to it that stand for
+  // another image piece, or for none (their circumcenters lie in the label the corner has),
+  // and then those next to the latter that stand for another.
+  const Label l = island.empty() ? Label{0} : state_.output_label(island[0]);
+  const auto of_region = [&](CellId n) { return st.is_live(n) && state_.output_label(n) == l; };
+  std::unordered_set<CellId> joining;
+  for (CellId c : island)
+    for (CellId n : st.cell(c).n) {
+      if (!of_region(n) || image_piece[n] == piece) continue;
+      sample(c, n);
+      if (image_piece[n] == FacePieces::kNoPiece) joining.insert(n);
+    }
+  for (CellId c : joining)
+    for (CellId n : st.cell(c).n)
+      if (of_region(n) && image_piece[n] != piece && image_piece[n] != FacePieces::kNoPiece)
+        sample(c, n);
+}
+
 PieceMatching ManifoldRelabeling::match_image_pieces(bool leave_links) {
   PieceMatching out;
   const auto& st = state_.tri.store();
@@ -212,6 +246,7 @@ PieceMatching ManifoldRelabeling::match_image_pieces(bool leave_links) {
 
   for (int pass = 0; pass < kPasses; ++pass) {
     RegionPieces pieces(state_);
+    out.unseparated.clear();  // those of the last pass: the earlier ones may have been cut since
     std::unordered_set<std::size_t> touched;  // roots acted on in this pass
     std::size_t actions = 0;
     std::unordered_map<Label, std::size_t> largest;  // label -> root
@@ -361,7 +396,10 @@ PieceMatching ManifoldRelabeling::match_image_pieces(bool leave_links) {
           for (std::size_t k = 0; k < cuts.size() && !done; ++k)
             done = apply_mended(cuts[k], cut, out, guarded, l,
                                 guarded && leave_links ? kSpareLinks : 0);
-        if (!done) continue;
+        if (!done) {
+          contact_samples(island, p, pieces.image_piece, out.unseparated);
+          continue;
+        }
         ++out.cut, ++actions;
         touched.insert(root);
         break;

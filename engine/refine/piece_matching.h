@@ -12,8 +12,11 @@
 //   corner the label function gives to another label. The layer of pentatopes where the two
 //   meet, up to three deep, takes its neighbors' label.
 // Every move obeys the manifold step's rules: allowed pentatopes only and no new boundary facet
-// more than Δ/2 from ∂Ω. Links that moves break are mended by the manifold step around them
-// (which may not join a cut piece again), and the moves are undone unless no more links fail
+// more than Δ/2 from ∂Ω. Where no cut separates a merged piece (the rules joined the two across
+// the corner again, or every cut breaks links), ∂Ω is too coarsely sampled there: the points
+// where the Voronoi edges between the two leave the label are handed back, for the refiner to
+// insert before it matches again. Links that moves break are mended by the manifold step around
+// them (which may not join a cut piece again), and the moves are undone unless no more links fail
 // than before (a few more may be left to the manifold sampling, on request). A label's largest
 // piece never goes.
 #pragma once
@@ -22,6 +25,7 @@
 #include <vector>
 
 #include "refine/manifold_scan.h"
+#include "refine/operation.h"
 
 namespace mesh4d::refine {
 
@@ -36,6 +40,9 @@ struct PieceMatching {
   // With `leave_links` (manifold_relabeling.h): the failing links the cuts left, for the
   // manifold sampling.
   std::vector<NonManifoldVertex> failing;
+  // Of the merged pieces no cut separated: where ∂Ω crosses the Voronoi edges between the
+  // pentatopes that stand for the two image pieces (dual to the facets where they meet).
+  std::vector<RepairPoint> unseparated;
 };
 
 }  // namespace mesh4d::refine

@@ -31,6 +31,9 @@ namespace mesh4d::refine {
 namespace {
 
 constexpr int kUnpinchRounds = 4;  // of free-vertex removal where relabeling is stuck
+// Of sampling between the image pieces of a region piece that no cut separates, then matching
+// again.
+constexpr int kSeparationRounds = 2;
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -198,15 +201,18 @@ struct Refiner::Pipeline {
   }
 
   // Where the relabeling left a region's link failing, ∂Ω is sampled more finely there.
+  // `extra`: surface points the piece matching asks for first.
   ManifoldSampling::Outcome sample_manifold(std::vector<NonManifoldVertex> failing,
-                                            ProgressSink* sink) {
+                                            ProgressSink* sink,
+                                            std::vector<RepairPoint> extra = {}) {
     workers.ensure(state.params.threads);  // a log per worker that may run an operation
     ManifoldSampling sampling(state, scan, operation, workers.size());
     return sampling.run(
         std::move(failing), [&] { drain(sink); },
         [&](const std::vector<RepairPoint>& points, double spacing) {
           return parallel.insert_points(points, spacing);
-        });
+        },
+        std::move(extra));
   }
 
   // The pinches and non-manifold vertices left, the statistics and the counters.
@@ -290,21 +296,37 @@ RefineResult Refiner::run(ProgressSink* sink) {
                             }),
                 failing.end());
   clock.lap(Stage::piece_matching);
-  const ManifoldSampling::Outcome sampled = p.sample_manifold(std::move(failing), sink);
-  clock.lap(Stage::manifold_sampling);
-  result.relabeled += sampled.moved;
-  result.manifold_rounds = sampled.rounds;
-  result.manifold_points = sampled.points;
-  std::size_t mended = 0;  // of the links the sampling left
-  if (sampled.points > 0) {
+  std::vector<RepairPoint> unseparated = std::move(matched.unseparated);
+  std::size_t left = 0;  // failing links after the last sampling and match
+  for (int round = 0; round <= kSeparationRounds; ++round) {
+    const ManifoldSampling::Outcome sampled =
+        p.sample_manifold(std::move(failing), sink, std::move(unseparated));
+    clock.lap(Stage::manifold_sampling);
+    result.relabeled += sampled.moved;
+    result.manifold_rounds += sampled.rounds;
+    result.manifold_points += sampled.points;
+    left = sampled.failing.size();
+    if (sampled.points == 0) break;
+    // The sampling's rules may have joined a cut piece again; a piece no cut separates hands
+    // back where ∂Ω is to be sampled between its two image pieces, for another round.
     matched = manifold_step.match_image_pieces();
     result.relabeled += matched.moved;
     count(matched);
-    mended = std::min(matched.links_mended, sampled.failing.size());
+    left -= std::min(matched.links_mended, left);
     clock.lap(Stage::piece_matching);
+    if (matched.unseparated.empty()) break;
+    // The links still failing (the match may have mended some), for the next sampling.
+    std::vector<VertexId> around;
+    for (const NonManifoldVertex& f : sampled.failing) around.push_back(f.vertex);
+    std::sort(around.begin(), around.end());
+    around.erase(std::unique(around.begin(), around.end()), around.end());
+    const ManifoldRelabeling::Outcome rechecked = manifold_step.run(&around);
+    result.relabeled += rechecked.moved;
+    failing = rechecked.failing;
+    unseparated = std::move(matched.unseparated);
   }
   p.relabeling.invalidate();
-  result.non_manifold_left = sampled.failing.size() - mended;
+  result.non_manifold_left = left;
   p.meter.report(sink, Phase::extracting, true);
   result.mesh = extract(p.state, result.warnings);
   if (p.state.params.sag_offset)

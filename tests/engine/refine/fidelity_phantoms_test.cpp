@@ -5,6 +5,7 @@
 // touching another, with every boundary link a sphere.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstdio>
 
 #include "domain/phantoms.h"
@@ -22,13 +23,15 @@ struct Meshed {
   FidelityCertificate certificate;
 };
 
-Meshed mesh_phantom(const std::string& name, double delta = 2.5) {
+Meshed mesh_phantom(const std::string& name, double delta = 2.5,
+                    std::uint64_t seed = RefineParams{}.seed) {
   domain::LabelImage4 image = domain::make_phantom(name);
   domain::validate_and_close(image);
   domain::clean_segmentation(image, domain::kDefaultMinIslandVoxels);
   const domain::SurfaceOracle oracle(image);
   RefineParams params;
   params.delta = delta;
+  params.seed = seed;
   Meshed m{refine(oracle, params), {}};
   m.certificate = certify(m.result.mesh, image);
   for (const LabelFidelity& l : m.certificate.labels)
@@ -95,6 +98,20 @@ TEST(FidelityPhantomPieceMatching, JoinsWhatTheImageJoinsAndCutsWhatItSplits) {
   ASSERT_EQ(bridge.certificate.labels.size(), 1u);
   EXPECT_EQ(bridge.certificate.labels[0].image_pieces, 1u);
   expect_faithful(bridge);
+}
+
+// The diagonal island on the seeds where the rules join the island to the wall again after its
+// cut (while ∂Ω is sampled where links failed) and no cut layer separates the two: ∂Ω is then
+// sampled between them, and the match is tried again (on these seeds, without that, the label
+// is one piece where the image has two).
+TEST(FidelityPhantomPieceMatching, SamplesBetweenPiecesThatNoCutSeparates) {
+  for (const std::uint64_t seed : {21, 37, 54}) {
+    SCOPED_TRACE("diagonal island, seed " + std::to_string(seed));
+    const Meshed island = mesh_phantom("diagonal-island", 2.5, seed);
+    ASSERT_EQ(island.certificate.labels.size(), 2u);
+    EXPECT_EQ(island.certificate.labels[1].image_pieces, 2u);
+    expect_faithful(island);
+  }
 }
 
 // Checkerboard: the cleanup fills the one-voxel pockets between the diagonal contacts (the
