@@ -12,11 +12,15 @@ using mesh4d::VertexId;
 
 namespace {
 
-// On the patients at δ 5 the count falls to none within six rounds; a round costs a few
+// On the patients at δ 5 the count falls to none within twelve rounds. At the paper's spacing
+// (6 mm between slices) Pat05's last pair took 20, with the halvings below. A round costs a few
 // hundredths of a second (the stars around the new points, not the whole boundary).
-constexpr int kRounds = 12;
-// How close (in Δ) a sample may come to a feature vertex: the pinch repair's finer spacing.
+constexpr int kRounds = 24;
+// How close (in Δ) a sample may come to a feature vertex: the pinch repair's finer spacing. When
+// a round of every sample inserts nothing (each lies that close to a feature vertex), it halves,
+// up to three times (to Δ/32).
 constexpr double kSpacing = 0.25;
+constexpr int kSpacingHalvings = 3;
 
 // Every vertex whose star an operation changed: those of the pentatopes it made (an insertion's
 // cavity and a removal's hole are filled by pentatopes on all of their boundary's vertices).
@@ -53,6 +57,13 @@ void ManifoldSampling::samples_at(const NonManifoldVertex& f, double spacing, bo
   std::vector<CellId> star;
   state_.tri.incident_cells(f.vertex, star);
   std::vector<std::pair<double, RepairPoint>> found;  // (-distance to v, sample)
+  const auto add = [&](const Point4& z, CellId c) {
+    if (state_.feature_within(z, spacing)) return;
+    RepairPoint r{z, {c, {}}};
+    std::copy(std::begin(st.cell(c).v), std::end(st.cell(c).v), r.hint.v);
+    found.push_back({-distance(z, st.point(f.vertex)), r});
+  };
+  std::vector<std::pair<CellId, CellId>> no_crossing;  // restricted facets, as (inside, outside)
   for (CellId c : star) {
     if (state_.output_label(c) != f.label) continue;
     const auto& cell = st.cell(c);
@@ -62,12 +73,23 @@ void ManifoldSampling::samples_at(const NonManifoldVertex& f, double spacing, bo
       if (cell.v[i] == f.vertex || state_.output_label(n) == f.label) continue;
       if (!state_.info[c].finite || !state_.info[n].finite) continue;
       const auto z = state_.oracle.first_crossing(state_.info[c].center, state_.info[n].center);
-      if (!z || state_.feature_within(z->point, spacing)) continue;
-      RepairPoint r{z->point, {c, {}}};
-      std::copy(std::begin(cell.v), std::end(cell.v), r.hint.v);
-      found.push_back({-distance(z->point, st.point(f.vertex)), r});
+      if (z)
+        add(z->point, c);
+      else
+        no_crossing.push_back({c, n});
     }
   }
+  // Where a relabeling moved one side of a facet, the label function may not change between
+  // the circumcenters. When no other facet gives a sample, ∂Ω's points nearest those facets'
+  // Voronoi edges' middles are the samples (a closest-point search each, so only then).
+  if (found.empty())
+    for (const auto& [c, n] : no_crossing) {
+      Point4 middle;
+      for (int k = 0; k < 4; ++k)
+        middle[k] = 0.5 * (state_.info[c].center[k] + state_.info[n].center[k]);
+      const domain::SurfacePoint near = state_.oracle.closest_surface_point(middle);
+      if (near.inner != near.outer) add(near.point, c);
+    }
   std::stable_sort(found.begin(), found.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
   for (const auto& [d, r] : found) {
@@ -80,7 +102,8 @@ ManifoldSampling::Outcome ManifoldSampling::run(std::vector<NonManifoldVertex> f
                                                 const Drain& drain, const Insert& insert,
                                                 std::vector<RepairPoint> extra) {
   Outcome outcome;
-  const double spacing = kSpacing * state_.params.delta;
+  double spacing = kSpacing * state_.params.delta;
+  int halvings = 0;
   StarLog log(state_, workers_);
   std::size_t last = failing.size() + 1;
   for (; outcome.rounds < kRounds && (!failing.empty() || !extra.empty()); ++outcome.rounds) {
@@ -96,7 +119,11 @@ ManifoldSampling::Outcome ManifoldSampling::run(std::vector<NonManifoldVertex> f
     if (inserted > 0) drain();
     operation_.set_observer(nullptr);
     outcome.points += inserted;
-    if (inserted == 0 && every) break;
+    if (inserted == 0 && every) {
+      if (halvings++ == kSpacingHalvings) break;
+      spacing /= 2;
+      continue;
+    }
     // The links that can have changed: the new pentatopes' vertices, and the failing ones.
     std::vector<VertexId> around = log.take();
     for (const NonManifoldVertex& f : failing) around.push_back(f.vertex);

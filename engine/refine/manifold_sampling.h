@@ -4,7 +4,9 @@
 // saddle or a junction closer than Δ). A restricted facet of that region through the vertex is
 // sampled at its surface center, the rules run, and the relabeling is tried again around the
 // new pentatopes, in rounds; a round that does not lower the count samples every restricted
-// facet through the failing vertices instead of one each.
+// facet through the failing vertices instead of one each. Where no facet gives a sample (a
+// relabeling moved one side and the label function does not change across them, or every sample
+// lies too close to a feature vertex), the search widens (manifold_sampling.cpp).
 #pragma once
 
 #include <functional>
@@ -41,6 +43,8 @@ class ManifoldSampling {
  private:
   // The surface centers of f's label's restricted facets through f's vertex, none within
   // `spacing` of a feature vertex, appended to `out`: all, or only the one farthest from it.
+  // When none gives a sample, those across which the label function does not change (a
+  // relabeling moved one side) give ∂Ω's point nearest their Voronoi edges' middles.
   void samples_at(const NonManifoldVertex& f, double spacing, bool every,
                   std::vector<RepairPoint>& out) const;
 

@@ -44,7 +44,7 @@ domain::LabelImage4 small_ventricle() {
   return image;
 }
 
-std::optional<domain::LabelImage4> patient_at_papers_spacing(const std::string& name) {
+std::optional<domain::LabelImage4> patient_at_papers_spacing(const std::string& name, bool closed) {
   const std::filesystem::path file =
       std::filesystem::path(MESH4D_HEART_DATA_DIR) / (name + "_mse4d_label4d.nii.gz");
   if (!std::filesystem::exists(file)) return std::nullopt;
@@ -53,7 +53,7 @@ std::optional<domain::LabelImage4> patient_at_papers_spacing(const std::string& 
   domain::LabelImage4 image({d[0], d[1], d[2], 15}, {1.77, 1.77, 6, 1});
   for (std::size_t i = 0; i < image.voxel_count(); ++i)
     if (read.at(i) != 0) image.set(i, read.at(i));
-  domain::validate_and_close(image);
+  if (closed) domain::validate_and_close(image);
   return image;
 }
 

@@ -26,8 +26,10 @@ double voxel_volume(const domain::LabelImage4& image, domain::Label label);
 domain::LabelImage4 small_ventricle();
 
 /// A patient of ../shared/data/heart4d ("Pat01".."Pat05") at the paper's spacing (1.77, 1.77, 6,
-/// 1; its first 15 frames, as bench/refine_bench), closed; nothing where the data are absent.
-std::optional<domain::LabelImage4> patient_at_papers_spacing(const std::string& name);
+/// 1; its first 15 frames, as bench/refine_bench), closed unless `closed` is false (for the
+/// steps that close it themselves); nothing where the data are absent.
+std::optional<domain::LabelImage4> patient_at_papers_spacing(const std::string& name,
+                                                             bool closed = true);
 
 /// Every warning of `r` is the manifold stage's (failing links left where labels meet), and it
 /// is there exactly when some are left. GoogleTest expectations.

@@ -17,6 +17,7 @@
 #include "mesh/topology_certificate.h"
 #include "refine/fidelity_certificate.h"
 #include "refine/refine_checks.h"
+#include "refine/time_caps.h"
 
 namespace mesh4d::refine {
 namespace {
@@ -266,6 +267,39 @@ TEST(Refiner, RelabelingCanKeepEitherOfTwoEqualGaps) {
   // One boundary tetrahedron lies 0.574 δ from ∂Ω, with or without the manifold step (it comes
   // from the rules and the relabeling): every tetrahedron measured.
   expect_fidelity(r.mesh, oracle, {0, 1, 2}, 0.6 * params.delta, r.sag.largest_offset);
+}
+
+// Pat02 (seed 3) and Pat05 (seed 1) at the paper's spacing, prepared as bench/refine_bench's
+// rows (cleaned, time caps): the manifold sampling's rounds ended with a link failing, two ways.
+// On Pat02 every restricted facet of the last failing vertex had the same label function at
+// both circumcenters (a relabeling had moved one side), so no facet gave a sample: ∂Ω's point
+// nearest each Voronoi edge's middle is sampled then. On Pat05 every sample lay within Δ/4 of a
+// feature vertex: the spacing halves then. Each alone leaves the other's link. About 30 s.
+TEST(Refiner, ManifoldSamplingLeavesNoLinkFailingAtThePapersSpacing) {
+  const std::pair<const char*, std::uint64_t> cases[] = {{"Pat02", 3}, {"Pat05", 1}};
+  for (const auto& [name, seed] : cases) {
+    SCOPED_TRACE(std::string(name) + ", seed " + std::to_string(seed));
+    auto image = patient_at_papers_spacing(name, false);
+    if (!image) GTEST_SKIP() << "no real data in " << MESH4D_HEART_DATA_DIR;
+    domain::clean_segmentation(*image, domain::kDefaultMinIslandVoxels);
+    RefineParams params;
+    params.delta = 5;
+    params.seed = seed;
+    std::vector<std::string> warnings;
+    const RefineResult r = refine_with_time_caps(*image, params, nullptr, &warnings);
+    const FidelityCertificate c = certify(r.mesh, *image);
+    std::printf("%s paper spacing, seed %llu: %zu sampling points in %d rounds, %zu links left\n",
+                name, (unsigned long long)seed, r.manifold_points, r.manifold_rounds,
+                r.non_manifold_left);
+    EXPECT_EQ(r.non_manifold_left, 0u);
+    for (const LabelFidelity& l : c.labels) {
+      SCOPED_TRACE("label " + std::to_string(l.label));
+      EXPECT_EQ(l.non_manifold_vertices, 0u);
+      EXPECT_EQ(l.non_manifold_edges, 0u);
+      EXPECT_EQ(l.non_manifold_triangles, 0u);
+      EXPECT_EQ(l.mesh_pieces, l.image_pieces);
+    }
+  }
 }
 
 // The other single-label phantoms: a hyper-torus (a hole), two blobs that merge and split over
