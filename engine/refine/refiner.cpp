@@ -314,7 +314,7 @@ RefineResult Refiner::run(ProgressSink* sink) {
     count(matched);
     left -= std::min(matched.links_mended, left);
     clock.lap(Stage::piece_matching);
-    if (matched.unseparated.empty()) break;
+    if (matched.unseparated.empty() || round == kSeparationRounds) break;
     // The links still failing (the match may have mended some), for the next sampling.
     std::vector<VertexId> around;
     for (const NonManifoldVertex& f : sampled.failing) around.push_back(f.vertex);
