@@ -59,9 +59,7 @@ void ManifoldSampling::samples_at(const NonManifoldVertex& f, double spacing, bo
   std::vector<std::pair<double, RepairPoint>> found;  // (-distance to v, sample)
   const auto add = [&](const Point4& z, CellId c) {
     if (state_.feature_within(z, spacing)) return;
-    RepairPoint r{z, {c, {}}};
-    std::copy(std::begin(st.cell(c).v), std::end(st.cell(c).v), r.hint.v);
-    found.push_back({-distance(z, st.point(f.vertex)), r});
+    found.push_back({-distance(z, st.point(f.vertex)), RepairPoint{z, state_.candidate(c)}});
   };
   std::vector<std::pair<CellId, CellId>> no_crossing;  // restricted facets, as (inside, outside)
   for (CellId c : star) {

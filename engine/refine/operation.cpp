@@ -28,8 +28,7 @@ void Operation::enqueue(Worker& w, CellId c) {
   if (!state_.covering.rules_apply(state_.tri, c)) return;
   const int rule = index_of(rules_.quick_rule(c));
   if (rule == index_of(Rule::none)) return;
-  Candidate k{c, {}};
-  for (int i = 0; i < 5; ++i) k.v[i] = state_.tri.store().cell(c).v[i];
+  const Candidate k = state_.candidate(c);
   if (!w.guard) {
     w.queues[rule].push_back(k);
     return;

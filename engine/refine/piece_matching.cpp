@@ -192,9 +192,7 @@ void ManifoldRelabeling::contact_samples(const std::vector<CellId>& island, std:
     for (const auto& [from, to] : {std::pair{a, b}, std::pair{b, a}}) {
       const auto z = state_.oracle.first_crossing(state_.info[from].center, state_.info[to].center);
       if (!z) continue;
-      RepairPoint r{z->point, {from, {}}};
-      std::copy(std::begin(st.cell(from).v), std::end(st.cell(from).v), r.hint.v);
-      out.push_back(r);
+      out.push_back(RepairPoint{z->point, state_.candidate(from)});
     }
   };
   // The region's pentatopes that join the island to the rest: those next to it that stand for

@@ -177,14 +177,11 @@ std::size_t PinchRepair::repair(double min_spacing, const Insert& insert) {
   // insertions. A point near a sampled one is refused (the insertion asks again, as points of
   // this round go in first).
   std::vector<RepairPoint> points;
-  const auto& st = state_.tri.store();
   for (const PinchedTriangle& t : known_) {
     Point4 point;
     CellId hint = delaunay::kNoCell;
     if (!repair_point_of(t, &point, &hint) || state_.feature_within(point, min_spacing)) continue;
-    RepairPoint r{point, {hint, {}}};
-    std::copy(std::begin(st.cell(hint).v), std::end(st.cell(hint).v), r.hint.v);
-    points.push_back(r);
+    points.push_back(RepairPoint{point, state_.candidate(hint)});
   }
   return insert(points, min_spacing);
 }

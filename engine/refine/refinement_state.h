@@ -107,6 +107,12 @@ class RefinementState final : public delaunay::ConflictFilter {
   Point4 centroid_of(delaunay::CellId c) const;
   Point4 clamp_to_box(const Point4& p) const;
   bool still_valid(const Candidate& k) const { return tri.store().still_holds(k.cell, k.v); }
+  /// Live pentatope c as a candidate: its slot and its vertices now.
+  Candidate candidate(delaunay::CellId c) const {
+    Candidate k{c, {}};
+    for (int i = 0; i < 5; ++i) k.v[i] = tri.store().cell(c).v[i];
+    return k;
+  }
   /// Whether a feature vertex lies within r of p (the index is shared by the workers). With
   /// `own_cell_only`, only those in p's cell of the index: a true answer, or perhaps a missed one.
   bool feature_within(const Point4& p, double r, bool own_cell_only = false) const {
