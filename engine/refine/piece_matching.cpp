@@ -200,13 +200,16 @@ void ManifoldRelabeling::contact_samples(const std::vector<CellId>& island, std:
   // and then those next to the latter that stand for another.
   const Label l = island.empty() ? Label{0} : state_.output_label(island[0]);
   const auto of_region = [&](CellId n) { return st.is_live(n) && state_.output_label(n) == l; };
-  std::unordered_set<CellId> joining;
+  std::vector<CellId> joining;
   for (CellId c : island)
     for (CellId n : st.cell(c).n) {
       if (!of_region(n) || image_piece[n] == piece) continue;
       sample(c, n);
-      if (image_piece[n] == FacePieces::kNoPiece) joining.insert(n);
+      if (image_piece[n] == FacePieces::kNoPiece) joining.push_back(n);
     }
+  // Each once, by id: the samples' order (their insertion order) does not hang on a hash.
+  std::sort(joining.begin(), joining.end());
+  joining.erase(std::unique(joining.begin(), joining.end()), joining.end());
   for (CellId c : joining)
     for (CellId n : st.cell(c).n)
       if (of_region(n) && image_piece[n] != piece && image_piece[n] != FacePieces::kNoPiece)
