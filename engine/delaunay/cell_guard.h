@@ -9,18 +9,12 @@
 // refusal abandons the operation before anything was written.
 #pragma once
 
-#include "delaunay/pentatope_store.h"
+#include "delaunay/vertex_locks.h"
 
 namespace mesh4d::delaunay {
 
-class CellGuard {
- public:
-  /// Claims pentatope c (whose vertex ids the caller may read: it holds four of them already).
-  /// False when another thread holds one of its vertices.
-  virtual bool acquire(CellId c) = 0;
-
- protected:
-  ~CellGuard() = default;
-};
+// The one way to claim (a concrete type, so that the walks and cavity searches call its
+// acquire() inline).
+using CellGuard = VertexLocks;
 
 }  // namespace mesh4d::delaunay

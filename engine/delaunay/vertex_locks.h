@@ -9,11 +9,11 @@
 #include <utility>
 #include <vector>
 
-#include "delaunay/cell_guard.h"
+#include "delaunay/pentatope_store.h"
 
 namespace mesh4d::delaunay {
 
-class VertexLocks final : public CellGuard {
+class VertexLocks final {
  public:
   /// A lock that another thread held: the vertex and that thread's id.
   struct Blocker {
@@ -44,7 +44,9 @@ class VertexLocks final : public CellGuard {
   /// Takes a vertex this thread created already locked (PentatopeStore::add_vertex's owner).
   void adopt(VertexId v) { held_.push_back(v); }
 
-  bool acquire(CellId c) override {
+  /// Claims pentatope c (whose vertex ids the caller may read: it holds four of them already).
+  /// False when another thread holds one of its vertices.
+  bool acquire(CellId c) {
     const Pentatope& cell = store_.cell(c);
     for (VertexId v : cell.v)
       if (!lock(v)) return false;

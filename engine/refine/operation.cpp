@@ -19,15 +19,34 @@ Operation::Operation(RefinementState& state, Rules& rules) : state_(state), rule
 
 void Operation::admit(Worker& w, const std::vector<CellId>& cells) {
   state_.admit(cells);
-  for (CellId c : cells) enqueue(w, c);
+  if (!w.guard) {
+    for (CellId c : cells) enqueue(w, c);
+    return;
+  }
+  // In a parallel phase thieves take from the queues: they are locked once for the whole batch,
+  // which is pushed in the same order.
+  w.admitted.clear();
+  for (CellId c : cells)
+    if (const int rule = queue_of(c); rule >= 0) w.admitted.push_back({rule, state_.candidate(c)});
+  if (w.admitted.empty()) return;
+  std::lock_guard lock(w.queue_mutex);
+  unsigned pushed = 0;  // a bit per queue
+  for (const auto& [rule, k] : w.admitted) w.queues[rule].push_back(k), pushed |= 1u << rule;
+  for (int r = 0; r < kQueuedRules; ++r)
+    if (pushed >> r & 1) w.publish_length(r);
+}
+
+int Operation::queue_of(CellId c) const {
+  if (!state_.tri.store().is_live(c) || state_.tri.store().is_infinite(c)) return -1;
+  // In periodic time the rules run on each class's representative; its copies follow.
+  if (!state_.covering.rules_apply(state_.tri, c)) return -1;
+  const int rule = index_of(rules_.quick_rule(c));
+  return rule == index_of(Rule::none) ? -1 : rule;
 }
 
 void Operation::enqueue(Worker& w, CellId c) {
-  if (!state_.tri.store().is_live(c) || state_.tri.store().is_infinite(c)) return;
-  // In periodic time the rules run on each class's representative; its copies follow.
-  if (!state_.covering.rules_apply(state_.tri, c)) return;
-  const int rule = index_of(rules_.quick_rule(c));
-  if (rule == index_of(Rule::none)) return;
+  const int rule = queue_of(c);
+  if (rule < 0) return;
   const Candidate k = state_.candidate(c);
   if (!w.guard) {
     w.queues[rule].push_back(k);

@@ -62,6 +62,8 @@ class Operation {
 
  private:
   void enqueue(Worker& w, delaunay::CellId c);
+  // The queue (index_of(rule)) of a pentatope that a rule may apply to, or -1.
+  int queue_of(delaunay::CellId c) const;
   Outcome insert_one(Worker& w, const Point4& p, delaunay::VertexKind kind, delaunay::CellId hint,
                      Rule rule, const Point4* sample, double clearance);
   Outcome insert_copies(Worker& w, const Point4& p, delaunay::VertexKind kind,

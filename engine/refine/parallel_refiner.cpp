@@ -43,9 +43,12 @@ constexpr std::size_t kRepairShare = 8;        // repair points per thread, at l
 
 using Clock = std::chrono::steady_clock;
 
-std::uint64_t nanoseconds_since(Clock::time_point t0) {
+std::uint64_t nanoseconds_between(Clock::time_point t0, Clock::time_point t1) {
   return static_cast<std::uint64_t>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count());
+      std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count());
+}
+std::uint64_t nanoseconds_since(Clock::time_point t0) {
+  return nanoseconds_between(t0, Clock::now());
 }
 
 // Spin politely: yield first, then sleep, so that oversubscribed threads let the others run.
@@ -292,11 +295,15 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
     if (shared.priority.load(std::memory_order_relaxed) == me)
       shared.priority.store(-1, std::memory_order_release);
   };
+  // One clock reading per operation: each operation's time runs from the end of the last one
+  // (or of a wait), so that the queue work before it counts as its own.
+  Clock::time_point last = Clock::now();
   try {
     while (shared.running()) {
       if (w.index >= working_threads(state_.params)) {
         release_priority();
         pause(w, shared);
+        last = Clock::now();
         continue;
       }
       const int holder = shared.priority.load(std::memory_order_acquire);
@@ -310,7 +317,8 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
           if (w.index == 0) tick();
           back_off(spins);
         }
-        w.waiting_ns.fetch_add(nanoseconds_since(t0), std::memory_order_relaxed);
+        last = Clock::now();
+        w.waiting_ns.fetch_add(nanoseconds_between(t0, last), std::memory_order_relaxed);
         continue;
       }
 
@@ -334,7 +342,8 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
           if (w.index == 0) tick();
           back_off(spins);
         }
-        w.idle_ns.fetch_add(nanoseconds_since(t0), std::memory_order_relaxed);
+        last = Clock::now();
+        w.idle_ns.fetch_add(nanoseconds_between(t0, last), std::memory_order_relaxed);
         continue;
       }
 
@@ -363,20 +372,20 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
           if (w.index == 0) tick();
           back_off(spins);
         }
-        w.waiting_ns.fetch_add(nanoseconds_since(t0), std::memory_order_relaxed);
+        last = Clock::now();
+        w.waiting_ns.fetch_add(nanoseconds_between(t0, last), std::memory_order_relaxed);
         continue;
       }
       if (rule != Rule::R5) lane.higher_in_flight.store(true, std::memory_order_release);
       if (w.index == 0 && ++lane.operations % kPollEvery == 0) tick();
-      const auto t0 = Clock::now();
       const Outcome outcome = operation_.process(w, k);
       if (rule != Rule::R5) lane.higher_in_flight.store(false, std::memory_order_release);
       const auto blocker = w.locks.take_blocker();
       w.locks.release_all();
       w.live_cells.store(w.cells.live, std::memory_order_relaxed);
       const auto ended = Clock::now();
-      const auto operation_ns = static_cast<std::uint64_t>(
-          std::chrono::duration_cast<std::chrono::nanoseconds>(ended - t0).count());
+      const std::uint64_t operation_ns = nanoseconds_between(last, ended);
+      last = ended;
       if (outcome == Outcome::conflict) {
         w.rollbacks.fetch_add(1, std::memory_order_relaxed);
         w.rolled_back_ns.fetch_add(operation_ns, std::memory_order_relaxed);
@@ -391,7 +400,8 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
               std::this_thread::sleep_for(std::chrono::microseconds(50));
           }
         }
-        w.waiting_ns.fetch_add(nanoseconds_since(ended), std::memory_order_relaxed);
+        last = Clock::now();
+        w.waiting_ns.fetch_add(nanoseconds_between(ended, last), std::memory_order_relaxed);
         {
           std::lock_guard lock(w.queue_mutex);
           w.queues[index_of(rule)].push_back(k);

@@ -10,6 +10,7 @@
 #include <memory>
 #include <mutex>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "delaunay/triangulation.h"
@@ -43,9 +44,10 @@ struct Worker {
   std::mt19937_64 rng;                   // of the picking regions
   delaunay::Cavity trial;                // trial cavities of the picking regions
   std::vector<delaunay::CellId> fresh, created, star;
-  std::vector<mesh4d::VertexId> near;     // the free vertices an R5 operation removes
-  std::vector<mesh4d::VertexId> removed;  // those of near it did remove
-  std::mutex queue_mutex;                 // the queues, which thieves also take from
+  std::vector<mesh4d::VertexId> near;               // the free vertices an R5 operation removes
+  std::vector<mesh4d::VertexId> removed;            // those of near it did remove
+  std::vector<std::pair<int, Candidate>> admitted;  // new pentatopes and their queues, to push
+  std::mutex queue_mutex;                           // the queues, which thieves also take from
   std::array<support::BlockStack<Candidate>, kQueuedRules> queues;  // by index_of(rule)
   // Counters, read by the reporting thread while this one writes them.
   std::array<std::atomic<std::uint64_t>, 5> insertions{}, removals{};
