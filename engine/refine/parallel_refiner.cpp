@@ -146,42 +146,53 @@ std::size_t ParallelRefiner::insert_points(const std::vector<RepairPoint>& point
 bool ParallelRefiner::Impl::pop(Worker& w, Shared& shared, Candidate* k, Rule* rule) {
   for (int attempt = 0; attempt < 2; ++attempt) {
     std::unique_lock lock(w.queue_mutex);
-    Rule own = Rule::none;
-    for (Rule r : order_)
-      if (!w.queues[index_of(r)].empty()) {
-        own = r;
-        break;
-      }
-    // The rules' priority is global in the sequential refiner: R5 runs only once no other rule
-    // applies anywhere. Its free-vertex removals next to another worker's R3 insertions undo
-    // them and are undone in turn, so a worker left with R5 work takes others' work first.
-    if (own == Rule::R5 && attempt == 0) {
-      Rule higher = Rule::none;
-      for (Rule r : order_) {
-        if (r == Rule::R5) break;
-        if (queued_anywhere(shared, r)) {
-          higher = r;
+    while (true) {
+      Rule own = Rule::none;
+      for (Rule r : order_)
+        if (!w.queues[index_of(r)].empty()) {
+          own = r;
           break;
         }
+      // The rules' priority is global in the sequential refiner: R5 runs only once no other
+      // rule applies anywhere. Its free-vertex removals next to another worker's R3 insertions
+      // undo them and are undone in turn, so a worker left with R5 work takes others' work
+      // first.
+      if (own == Rule::R5 && attempt == 0) {
+        Rule higher = Rule::none;
+        for (Rule r : order_) {
+          if (r == Rule::R5) break;
+          if (queued_anywhere(shared, r)) {
+            higher = r;
+            break;
+          }
+        }
+        if (higher != Rule::none) {
+          lock.unlock();
+          steal(w, shared, higher);
+          break;  // the next attempt
+        }
       }
-      if (higher != Rule::none) {
-        lock.unlock();
-        steal(w, shared, higher);
-        continue;
+      if (own == Rule::none) return false;
+      // Most candidates died in later operations (72 % on the ventricle at δ = 3), often in
+      // another worker's region: a lock-free look at the record drops them here, under the one
+      // lock, before process() locks their vertices. As on one thread, the next candidate's
+      // pentatope was queued long ago: its loads start before this one is looked at.
+      auto& queue = w.queues[index_of(own)];
+      while (!queue.empty()) {
+        *k = queue.back();
+        queue.pop_back();
+        if (!queue.empty()) {
+          __builtin_prefetch(&state_.tri.store().cell(queue.back().cell));
+          __builtin_prefetch(&state_.info[queue.back().cell]);
+        }
+        if (state_.still_valid(*k)) {
+          w.publish_length(index_of(own));
+          *rule = own;
+          return true;
+        }
       }
+      w.publish_length(index_of(own));  // only dead ones: the next queue
     }
-    if (own == Rule::none) return false;
-    auto& queue = w.queues[index_of(own)];
-    *k = queue.back();
-    queue.pop_back();
-    w.publish_length(index_of(own));
-    // As on one thread: the next candidate's pentatope was queued long ago, its loads start now.
-    if (!queue.empty()) {
-      __builtin_prefetch(&state_.tri.store().cell(queue.back().cell));
-      __builtin_prefetch(&state_.info[queue.back().cell]);
-    }
-    *rule = own;
-    return true;
   }
   return false;
 }
@@ -347,10 +358,6 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
         continue;
       }
 
-      // Most candidates died in later operations (72 % on the ventricle at δ = 3), often in
-      // another worker's region: a lock-free look at the record drops them before process()
-      // locks their vertices (fewer rollbacks with 8 and 16 threads; no change in time seen).
-      if (!state_.still_valid(k)) continue;
       if (state_.tri.stamps_running_low()) {  // cleared between phases, by one thread
         std::lock_guard lock(w.queue_mutex);
         w.queues[index_of(rule)].push_back(k);
