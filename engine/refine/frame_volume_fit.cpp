@@ -261,19 +261,17 @@ class FrameFit {
 
   // Each mover's share of the interface's sections at each frame: its hat function integrated
   // over them, by how much the section's volume grows per unit of its move. The facets are cut
-  // on the job's threads, each part a range of them, and the parts joined in order: the shares
-  // come in facet order on any number of threads.
+  // on the job's threads, each part a range of them, and the parts are read in order: the
+  // shares come in facet order on any number of threads. (They are not joined into one list: a
+  // copy on one thread.)
   void measure_shares(unsigned threads) {
     const std::size_t nb = mesh_.boundary.size();
     const unsigned parts = support::parts_for(nb, kMinShare, threads);
-    std::vector<std::vector<Share>> found(parts);
+    shares_.assign(parts, {});
     support::run_parts(parts, [&](unsigned part) {
       const auto [begin, end] = support::part_range(nb, part, parts);
-      for (std::size_t i = begin; i < end; ++i) cut_facet(mesh_.boundary[i], found[part]);
+      for (std::size_t i = begin; i < end; ++i) cut_facet(mesh_.boundary[i], shares_[part]);
     });
-    shares_ = std::move(found[0]);
-    for (unsigned part = 1; part < parts; ++part)
-      shares_.insert(shares_.end(), found[part].begin(), found[part].end());
   }
 
   // J[(l, f), (m, g)]: how the section of l at frame f grows with μ of m at frame g, through the
@@ -281,18 +279,19 @@ class FrameFit {
   // guard holds a region's vertices back, μ grows until the others make up for them.
   std::vector<double> jacobian() const {
     std::vector<double> j(n_ * n_, 0);
-    for (const Share& s : shares_) {
-      const Reach& r = reach_[s.mover];
-      const double w = s.volume * mobility_[s.mover];
-      if (w == 0) continue;
-      for (int p = 0; p < 2; ++p) {
-        if (r.first_row[p] == kNone) continue;
-        double* row = &j[(std::size_t{r.first_row[p]} + s.frame) * n_];
-        for (int q = 0; q < 2; ++q)
-          for (const auto& [col, h] : r.columns[q])
-            if (col != kNone && h != 0) row[col] += (p == q ? 1 : -1) * w * h;
+    for (const auto& part : shares_)
+      for (const Share& s : part) {
+        const Reach& r = reach_[s.mover];
+        const double w = s.volume * mobility_[s.mover];
+        if (w == 0) continue;
+        for (int p = 0; p < 2; ++p) {
+          if (r.first_row[p] == kNone) continue;
+          double* row = &j[(std::size_t{r.first_row[p]} + s.frame) * n_];
+          for (int q = 0; q < 2; ++q)
+            for (const auto& [col, h] : r.columns[q])
+              if (col != kNone && h != 0) row[col] += (p == q ? 1 : -1) * w * h;
+        }
       }
-    }
     return j;
   }
 
@@ -439,8 +438,8 @@ class FrameFit {
     std::array<std::uint32_t, 2> first_row{kNone, kNone};
     std::array<std::array<std::pair<std::uint32_t, double>, 2>, 2> columns{};
   };
-  std::vector<Reach> reach_;   // by mover
-  std::vector<Share> shares_;  // in facet order
+  std::vector<Reach> reach_;                // by mover
+  std::vector<std::vector<Share>> shares_;  // in facet order, by part
 };
 
 }  // namespace
