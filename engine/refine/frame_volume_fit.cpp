@@ -213,7 +213,8 @@ class FrameFit {
   };
 
  public:
-  FrameFit(mesh::Mesh4& mesh, const domain::SurfaceOracle& oracle, const InterfaceVertices& movers)
+  FrameFit(mesh::Mesh4& mesh, const domain::SurfaceOracle& oracle, const InterfaceVertices& movers,
+           unsigned threads)
       : mesh_(mesh),
         oracle_(oracle),
         movers_(movers),
@@ -221,7 +222,7 @@ class FrameFit {
         labels_(labels_of(oracle)),
         nf_(frames_.times.size()),
         n_(labels_.count * nf_) {
-    count_voxels();
+    count_voxels(threads);
     choose_directions();
     find_reach();
   }
@@ -373,18 +374,24 @@ class FrameFit {
     }
   }
 
-  void count_voxels() {
+  // The frames on the job's threads: a frame's sections are its own unknowns, each summed in
+  // voxel order as on one thread.
+  void count_voxels(unsigned threads) {
     const domain::LabelImage4& image = oracle_.image();
     const auto& s = image.spacing();
     const double voxel3 = s[0] * s[1] * s[2];
     const std::size_t per_frame = image.dims()[0] * image.dims()[1] * image.dims()[2];
     target_.assign(n_, 0);
-    for (std::size_t f = 0; f < nf_; ++f) {
-      const std::size_t base = frames_.index[f] * per_frame;
-      for (std::size_t i = 0; i < per_frame; ++i)
-        if (const domain::Label l = image.at(base + i); l != 0)
-          if (const std::uint32_t u = unknown(l, f); u != kNone) target_[u] += voxel3;
-    }
+    const unsigned parts = support::parts_for(nf_, 1, threads);
+    support::run_parts(parts, [&](unsigned part) {
+      const auto [begin, end] = support::part_range(nf_, part, parts);
+      for (std::size_t f = begin; f < end; ++f) {
+        const std::size_t base = frames_.index[f] * per_frame;
+        for (std::size_t i = 0; i < per_frame; ++i)
+          if (const domain::Label l = image.at(base + i); l != 0)
+            if (const std::uint32_t u = unknown(l, f); u != kNone) target_[u] += voxel3;
+      }
+    });
     cap_ = 0.5 * std::min({s[0], s[1], s[2]});
   }
 
@@ -448,10 +455,10 @@ FrameVolumeFit fit_frame_volumes(mesh::Mesh4& mesh, const domain::SurfaceOracle&
                                  const InterfaceVertices& movers, const RefineParams& params) {
   const auto begin = std::chrono::steady_clock::now();
   FrameVolumeFit report;
-  FrameFit fit(mesh, oracle, movers);
+  const unsigned threads = working_threads(params);
+  FrameFit fit(mesh, oracle, movers, threads);
   if (fit.unknowns() == 0 || movers.ids.empty()) return report;
   report.sections = fit.sections();
-  const unsigned threads = working_threads(params);
   std::vector<double> volume = fit.measure(threads);
   report.worst_before = report.worst_after = fit.worst(volume);
   const std::vector<Point4> start = mesh.vertices;
