@@ -173,25 +173,14 @@ bool ParallelRefiner::Impl::pop(Worker& w, Shared& shared, Candidate* k, Rule* r
         }
       }
       if (own == Rule::none) return false;
-      // Most candidates died in later operations (72 % on the ventricle at δ = 3), often in
-      // another worker's region: a lock-free look at the record drops them here, under the one
-      // lock, before process() locks their vertices. As on one thread, the next candidate's
-      // pentatope was queued long ago: its loads start before this one is looked at.
-      auto& queue = w.queues[index_of(own)];
-      while (!queue.empty()) {
-        *k = queue.back();
-        queue.pop_back();
-        if (!queue.empty()) {
-          __builtin_prefetch(&state_.tri.store().cell(queue.back().cell));
-          __builtin_prefetch(&state_.info[queue.back().cell]);
-        }
-        if (state_.still_valid(*k)) {
-          w.publish_length(index_of(own));
-          *rule = own;
-          return true;
-        }
-      }
-      w.publish_length(index_of(own));  // only dead ones: the next queue
+      // Dead candidates (often killed in another worker's region) are dropped here, under the
+      // one lock, before process() locks their vertices.
+      const bool live = pop_live(w.queues[index_of(own)], state_, k);
+      w.publish_length(index_of(own));
+      if (live) {
+        *rule = own;
+        return true;
+      }  // only dead ones: the next queue
     }
   }
   return false;

@@ -15,14 +15,8 @@ void drain_sequential(RefinementState& state, Operation& operation, Worker& w, P
         break;
       }
     if (!queue) return;
-    const Candidate k = queue->back();
-    queue->pop_back();
-    // The next candidate's pentatope was queued long ago: its loads start now.
-    if (!queue->empty()) {
-      __builtin_prefetch(&state.tri.store().cell(queue->back().cell));
-      __builtin_prefetch(&state.info[queue->back().cell]);
-    }
-    if (!state.still_valid(k)) continue;
+    Candidate k;
+    if (!pop_live(*queue, state, &k)) continue;  // only dead ones: the next queue
     if (++operations % 256 == 0) {
       if (sink && sink->should_abort()) throw Cancelled();
       meter.report(sink, Phase::refining, false);
