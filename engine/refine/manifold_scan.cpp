@@ -45,7 +45,7 @@ void region_link(const RefinementState& state, VertexId v, std::span<const CellI
 
 bool region_link_fails(const RefinementState& state, VertexId v, std::span<const CellId> star,
                        Label l) {
-  if (l == 0) return false;  // not output
+  if (!state.output_region(l)) return false;
   thread_local std::vector<std::array<std::uint32_t, 3>> link;
   std::size_t inside = 0;
   region_link(state, v, star, l, link, &inside);
@@ -101,12 +101,12 @@ void failing_labels(const RefinementState& state, VertexId v, std::span<const Ce
   const std::size_t count = seen.size();
   // Two labels only: each one's part of the link (a 3-sphere) is the other's complement, with
   // the same boundary surface, so one test answers for both.
-  if (count == 2 && seen[0] != 0 && seen[1] != 0) {
+  if (count == 2 && state.output_region(seen[0]) && state.output_region(seen[1])) {
     if (region_link_fails(state, v, star, seen[0]))
       for (int k = 0; k < 2; ++k) out->push_back({v, seen[k]});
   } else {
     for (std::size_t k = 0; k < count; ++k)
-      if (seen[k] != 0 && region_link_fails(state, v, star, seen[k])) out->push_back({v, seen[k]});
+      if (region_link_fails(state, v, star, seen[k])) out->push_back({v, seen[k]});
   }
   std::sort(
       out->begin() + static_cast<std::ptrdiff_t>(first), out->end(),
@@ -140,7 +140,7 @@ std::vector<NonManifoldVertex> find_non_manifold_vertices(const RefinementState&
   std::vector<std::uint8_t> marked(st.vertex_slots(), 0);
   over_cells([&](CellId c) {
     const Label l = state.output_label(c);
-    if (l == 0) return;
+    if (!state.output_region(l)) return;
     const auto& cell = st.cell(c);
     for (int f = 0; f < 5; ++f)
       if (state.output_label(cell.n[f]) != l) {

@@ -52,7 +52,9 @@ struct RegionPieces {
       const auto [begin, end] = support::part_range(slots, part, parts);
       for (std::size_t c = begin; c < end; ++c) {
         if (!st.is_live(static_cast<CellId>(c))) continue;
-        const Label l = state.output_label(static_cast<CellId>(c));
+        // A ghost's region is left out, as the background is: it is not output.
+        Label l = state.output_label(static_cast<CellId>(c));
+        if (!state.output_region(l)) l = 0;
         label[c] = l;
         if (l != 0) image_piece[c] = state.oracle.piece_at(state.info[c].center, l);
       }

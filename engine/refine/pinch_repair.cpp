@@ -71,7 +71,7 @@ std::size_t PinchRepair::count_from_facet_changes(std::vector<PinchedTriangle>* 
   for (unsigned w = 0; w < log_.workers(); ++w)
     for (const FacetChange& f : log_.changes(w))
       for (const domain::Label l : {f.a, f.b}) {
-        if (l == 0) continue;
+        if (!state_.output_region(l)) continue;
         for (int skip = 0; skip < 4; ++skip) {
           PinchKey key{l, 0, 0, 0};
           for (int k = 0, m = 1; k < 4; ++k)

@@ -65,7 +65,7 @@ std::size_t PinchScan::count(std::vector<PinchedTriangle>* pinched, PinchCounts*
         for (CellId n : st.cell(c + kLoadsAhead).n) __builtin_prefetch(&state_.info[n]);
       if (!st.is_live(c) || !state_.info[c].finite) continue;
       const domain::Label own = state_.label_of(c);  // read once: up to 21 uses below
-      if (own == 0) continue;
+      if (!state_.output_region(own)) continue;
       const auto& cell = st.cell(c);
       for (int i = 0; i < 5; ++i) {
         const CellId n = cell.n[i];
@@ -199,7 +199,7 @@ void PinchScan::pinches_at(CellId start, const std::array<VertexId, 3>& t,
   distinct.clear();
   for (std::size_t i = 0; i < n; ++i) {
     const domain::Label l = labels[i] = state_.output_label(cycle[i]);
-    if (l != 0 && std::find(distinct.begin(), distinct.end(), l) == distinct.end())
+    if (state_.output_region(l) && std::find(distinct.begin(), distinct.end(), l) == distinct.end())
       distinct.push_back(l);
   }
   for (const domain::Label l : distinct) {

@@ -18,8 +18,9 @@ struct Progress {
   std::array<std::uint64_t, 5> removals{};
   std::uint64_t rollbacks = 0;  // operations undone on a lock conflict (parallel phases)
   // Thread time of the parallel phases, summed over the workers: in operations that committed
-  // or found nothing to do (each with the queue work before it); lost to conflicts (rolled_back_seconds of it in the operations
-  // undone, the rest waiting for a lock's holder or the contention manager); without work.
+  // or found nothing to do (each with the queue work before it); lost to conflicts
+  // (rolled_back_seconds of it in the operations undone, the rest waiting for a lock's holder or
+  // the contention manager); without work.
   double work_seconds = 0;
   double contention_seconds = 0;
   double rolled_back_seconds = 0;

@@ -99,6 +99,10 @@ class RefinementState final : public delaunay::ConflictFilter {
   }
   /// The label a pentatope has in the output (0: not output).
   domain::Label output_label(delaunay::CellId c) const { return info[c].finite ? label_of(c) : 0; }
+  /// Whether label l's region is one of the output's, whose topology the repairs keep: not the
+  /// background, and not a time caps' ghost (dropped at the end, where its pentatopes become
+  /// outside as the background's are).
+  bool output_region(domain::Label l) const { return l != 0 && oracle.real_label(l) == l; }
   delaunay::Simplex4 simplex_of(delaunay::CellId c) const {
     delaunay::Simplex4 s;
     for (int i = 0; i < 5; ++i) s[i] = tri.store().point(tri.store().cell(c).v[i]);
