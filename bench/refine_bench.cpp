@@ -82,6 +82,7 @@ struct Flat {
   std::uint64_t manifold_points, manifold_rounds;            // the manifold sampling's
   std::uint64_t pieces_removed, pieces_bridged, pieces_cut;  // the piece matching's
   double sag_seconds, largest_offset;                        // the sag offset's
+  refine::StageSeconds stages;                               // where the refinement's time went
 };
 
 Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& params) {
@@ -137,7 +138,8 @@ Flat run_child(const domain::LabelImage4& image, const refine::RefineParams& par
              r.pieces_bridged,
              r.pieces_cut,
              r.sag.seconds,
-             r.sag.largest_offset};
+             r.sag.largest_offset,
+             r.stages};
     for (auto n : r.stats.insertions) out.insertions += n;
     // The certificate a job computes after refinement (not in the rate: timed on its own).
     const auto t0 = std::chrono::steady_clock::now();
@@ -186,6 +188,10 @@ std::vector<std::uint64_t> g_seeds;
 // same checks; with more than one thread a seed does not fix the mesh).
 unsigned g_threads = 1;
 
+// --stages on: after the table, each row's refinement time by stage (refine/refiner.h: Stage).
+bool g_stages = false;
+std::vector<std::pair<std::string, refine::StageSeconds>> g_stage_rows;
+
 struct OverSeeds {
   std::string name, order;
   std::vector<double> rates;
@@ -210,6 +216,7 @@ bool mesh_row(const std::string& name, const domain::LabelImage4& image, double 
     return false;
   }
   *rate = f.pentatopes / f.seconds;
+  g_stage_rows.push_back({name, f.stages});
   std::printf(
       "| %s | %s | %g | %llu | %llu | %llu | %.2f | %.2f / %.2f / %.2f | %.4f / %.2f / %.2f | "
       "%.2f | %.0f | %llu | %.0f | %llu | %llu | %llu | %.2f | %.2f (%.2f) | %llu (%llu) | %llu / "
@@ -256,6 +263,25 @@ void row(const char* name, const domain::LabelImage4& image, double delta,
   g_over_seeds.push_back(over);
 }
 
+void print_stages() {
+  if (!g_stages || g_stage_rows.empty()) return;
+  std::printf(
+      "\nWhere each row's refinement time went (s; the rules inside every stage counted "
+      "apart)\n| input |");
+  for (int i = 0; i < refine::kStages; ++i)
+    std::printf(" %s |", refine::stage_name(static_cast<refine::Stage>(i)));
+  std::printf(" total |\n|---|");
+  for (int i = 0; i <= refine::kStages; ++i) std::printf("---|");
+  std::printf("\n");
+  for (const auto& [name, stages] : g_stage_rows) {
+    std::printf("| %s |", name.c_str());
+    double total = 0;
+    for (double s : stages.seconds) std::printf(" %.3f |", s), total += s;
+    std::printf(" %.3f |\n", total);
+  }
+  std::fflush(stdout);
+}
+
 void print_over_seeds() {
   if (g_over_seeds.empty()) return;
   std::printf(
@@ -281,6 +307,7 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[i], "--images") == 0) g_images = argv[i + 1];
     if (std::strcmp(argv[i], "--sag-offset") == 0) g_sag_offset = std::strcmp(argv[i + 1], "off");
     if (std::strcmp(argv[i], "--frame-fit") == 0) g_frame_fit = std::strcmp(argv[i + 1], "off");
+    if (std::strcmp(argv[i], "--stages") == 0) g_stages = std::strcmp(argv[i + 1], "off");
     if (std::strcmp(argv[i], "--min-island-voxels") == 0)
       g_min_island_voxels = std::strtoull(argv[i + 1], nullptr, 10);
     if (std::strcmp(argv[i], "--junction-spacing") == 0)
@@ -353,6 +380,7 @@ int main(int argc, char** argv) {
     row((name + ", paper spacing, 15 frames").c_str(), paper, 5, refine::RuleOrder::r3_first);
   }
   print_over_seeds();
+  print_stages();
   // Each patient's frames against Mesh_3's (the per-frame table for Pat01), then one row each.
   if (g_only.empty() || g_only == "Mesh_3") {
     std::vector<std::pair<std::string, mesh4d::bench::FramesSummary>> summaries;
