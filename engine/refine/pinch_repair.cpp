@@ -179,8 +179,9 @@ bool PinchRepair::repair_point_of(const PinchedTriangle& t, Point4* point, CellI
 std::size_t PinchRepair::repair(double min_spacing, const Insert& insert) {
   // A point per pinched triangle; all are found before any goes in, as cells die with
   // insertions. A point near a sampled one is refused (the insertion asks again, as points of
-  // this round go in first). (Read only: on the job's threads, each a contiguous share of the
-  // triangles, joined in order.)
+  // this round go in first). In periodic time the middle sheet's pinches only: a point goes in
+  // with its copies, which repair the other sheets' copies of the pinch. (Read only: on the job's
+  // threads, each a contiguous share of the triangles, joined in order.)
   const unsigned parts =
       support::parts_for(known_.size(), kTrianglesPerThread, working_threads(state_.params));
   std::vector<std::vector<RepairPoint>> found(parts);
@@ -189,7 +190,8 @@ std::size_t PinchRepair::repair(double min_spacing, const Insert& insert) {
     for (std::size_t i = begin; i < end; ++i) {
       Point4 point;
       CellId hint = delaunay::kNoCell;
-      if (!repair_point_of(known_[i], &point, &hint) || state_.feature_within(point, min_spacing))
+      if (!scan_.counted(known_[i]) || !repair_point_of(known_[i], &point, &hint) ||
+          state_.feature_within(point, min_spacing))
         continue;
       found[part].push_back(RepairPoint{point, state_.candidate(hint)});
     }

@@ -223,6 +223,14 @@ void PinchScan::pinches_at(CellId start, const std::array<VertexId, 3>& t,
   }
 }
 
+bool PinchScan::counted(const PinchedTriangle& p) const {
+  if (!state_.covering.active()) return true;
+  const auto& st = state_.tri.store();
+  double lowest = st.point(p.triangle[0])[3];
+  for (VertexId v : p.triangle) lowest = std::min(lowest, st.point(v)[3]);
+  return state_.covering.counts(lowest);
+}
+
 std::array<Triangle, 10> triangles_of(const mesh4d::VertexId (&vertices)[5]) {
   std::array<mesh4d::VertexId, 5> v;
   std::copy_n(vertices, 5, v.begin());

@@ -41,6 +41,9 @@ class PinchScan {
   /// `start`, which must contain it.
   void pinches_at(delaunay::CellId start, const std::array<mesh4d::VertexId, 3>& t,
                   std::vector<PinchedTriangle>* pinched) const;
+  /// Whether pinch p is one the periodic covering counts (its triangle's lowest vertex in the
+  /// middle sheet; the others are its copies, or the cut-off ends' artefacts); always in open time.
+  bool counted(const PinchedTriangle& p) const;
   /// The pinches on the triangles of these pentatopes.
   std::vector<PinchedTriangle> pinches_on(const std::vector<delaunay::CellId>& cells) const;
   /// By triangle, then label, each one's facets sorted: how a list was found (a full count, the

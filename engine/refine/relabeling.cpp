@@ -200,14 +200,7 @@ const std::vector<PinchedTriangle>& Relabeling::current_pinches() {
 void Relabeling::set_current(std::vector<PinchedTriangle> pinches) {
   // In periodic time, the middle sheet's pinches only: a copy of one elsewhere would be mended
   // on its own, perhaps another way, and both ways would reach every sheet (set_label).
-  if (state_.covering.active()) {
-    const auto& st = state_.tri.store();
-    std::erase_if(pinches, [&](const PinchedTriangle& p) {
-      double lowest = st.point(p.triangle[0])[3];
-      for (mesh4d::VertexId v : p.triangle) lowest = std::min(lowest, st.point(v)[3]);
-      return !state_.covering.counts(lowest);
-    });
-  }
+  std::erase_if(pinches, [&](const PinchedTriangle& p) { return !scan_.counted(p); });
   scan_.sort_canonically(pinches);
   current_ = std::move(pinches);
   current_known_ = true;
