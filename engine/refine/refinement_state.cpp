@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 
 #include "delaunay/circumballs.h"
+#include "delaunay/exact_circumcenter.h"
 #include "delaunay/spatial_sort.h"
 #include "domain/junctions.h"
 
@@ -78,6 +81,24 @@ void RefinementState::insert_junctions() {
   }
 }
 
+namespace {
+
+// A pentatope whose double determinant rounds to zero, though its exact orientation is
+// positive: its ball from exact determinants. Left without one, it would take no rule and no
+// label, and stand as a hole of the background inside a region, with its free vertices on the
+// region's boundary. Its ball decides no in-sphere question alone (center_error infinite).
+bool exact_ball(const Point4* const vertices[5], CellInfo& i) {
+  const std::optional<Point4> center = delaunay::exact_circumcenter(vertices);
+  if (!center) return false;
+  i.center = *center;
+  i.radius = 0;
+  for (int k = 0; k < 5; ++k) i.radius += distance(*center, *vertices[k]) / 5;
+  i.center_error = std::numeric_limits<float>::infinity();
+  return std::isfinite(i.radius);
+}
+
+}  // namespace
+
 void RefinementState::admit(const std::vector<CellId>& cells) {
   // The finite pentatopes' circumballs four at a time (circumballs4: the same numbers as one
   // at a time, faster); a short last group is padded with its first pentatope.
@@ -92,11 +113,11 @@ void RefinementState::admit(const std::vector<CellId>& cells) {
     for (int l = 0; l < n; ++l) {
       CellInfo& i = info[group[l]];
       i.center = balls[l].center;
-      if (!std::isfinite(i.center[0])) continue;  // flat: not finite
       i.radius = balls[l].radius;
       // Rounded up to a float: a conversion moves a normal value by at most 2⁻²⁴ of it.
       const double e = balls[l].center_error;
       i.center_error = e < 1e-30 ? 1e-30f : static_cast<float>(e * (1 + 0x1p-20));
+      if (!std::isfinite(i.center[0]) && !exact_ball(vertices[l], i)) continue;  // flat
       i.long_radius = i.radius / balls[l].shortest_edge >= params.radius_edge_bound;
       i.label_code = 0;
       i.surface_known = false;

@@ -43,7 +43,7 @@ struct alignas(64) CellInfo {
   // anything reads it. Atomic (std::atomic_ref) where read: a thread classifying a neighbor may
   // compute it.
   mutable std::uint32_t label_code = 0;
-  bool finite = false;  // false for infinite or flat pentatopes
+  bool finite = false;  // false for infinite pentatopes (and exactly flat ones, which none is)
   // Radius over shortest edge ≥ ρ̄ (R3 where inside), measured with the center: the vertices are
   // loaded once per new pentatope.
   bool long_radius = false;
