@@ -71,6 +71,7 @@ Outcome Operation::insert_copies(Worker& w, const Point4& point, VertexKind kind
   const auto& st = state_.tri.store();
   const std::array<Point4, 3> copies = state_.covering.copies(point);
   Outcome first = Outcome::skipped;
+  std::vector<VertexId> removed;
   for (int s = 0; s < 3; ++s) {
     if (s > 0 && !state_.covering.in_covering(copies[s])) continue;
     // The hint pentatope lies in one sheet: the walk to the other copies starts from the
@@ -88,12 +89,34 @@ Outcome Operation::insert_copies(Worker& w, const Point4& point, VertexKind kind
                                  sample && s == 0 ? &shifted_sample : nullptr, clearance);
     if (o == Outcome::done) {
       sheet_hint_[s] = w.fresh.empty() ? delaunay::kNoCell : w.fresh.front();
+      removed.insert(removed.end(), w.removed.begin(), w.removed.end());
     } else if (s == 0 && o == Outcome::conflict) {
       return o;  // a feature already within the sample's ball: none of the copies goes in
     }
     if (s == 0) first = o;
   }
+  if (rule == Rule::R5) remove_twins(w, removed);
   return first;
+}
+
+void Operation::remove_twins(Worker& w, const std::vector<VertexId>& removed) {
+  // The point set must stay invariant under a shift by T within the covering, or the sheets'
+  // triangulations differ where the covering is trusted. A copy of p past the covering's end
+  // is not inserted, but the free vertices it would have removed can lie inside the covering.
+  const auto& st = state_.tri.store();
+  std::vector<CellId> created, live;
+  for (VertexId u : removed)
+    for (int periods : {-2, -1, 1, 2}) {
+      const VertexId t = state_.covering.twin(state_.tri, u, periods);
+      if (t == delaunay::kNoVertex || st.vertex(t).kind != VertexKind::free) continue;
+      created.clear();
+      if (!state_.tri.remove(t, &created)) continue;
+      w.removals[index_of(Rule::R5)].fetch_add(1, std::memory_order_relaxed);
+      live.clear();
+      for (CellId c : created)
+        if (st.is_live(c)) live.push_back(c);
+      admit(w, live);
+    }
 }
 
 Outcome Operation::insert_one(Worker& w, const Point4& point, VertexKind kind, CellId hint,

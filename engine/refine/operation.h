@@ -68,6 +68,9 @@ class Operation {
                      Rule rule, const Point4* sample, double clearance);
   Outcome insert_copies(Worker& w, const Point4& p, delaunay::VertexKind kind,
                         delaunay::CellId hint, Rule rule, const Point4* sample, double clearance);
+  // R5's removals in periodic time: the live twins, in every sheet, of the vertices removed
+  // around p's copies (a copy beyond the covering's end removes nothing there itself).
+  void remove_twins(Worker& w, const std::vector<mesh4d::VertexId>& removed);
   // The free vertices of the cavity closer than Δ to p (R5 removes them), into w.near; in a
   // parallel phase their stars are claimed too. False on a conflict.
   bool claim_free_vertices_near(Worker& w, const Point4& p);

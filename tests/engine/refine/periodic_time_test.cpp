@@ -129,6 +129,21 @@ void expect_periodic_delaunay_glued_at_the_seam(std::size_t margin_frames) {
   std::map<Point4, mesh4d::VertexId> at;
   for (mesh4d::VertexId v = 1; v < st.vertex_slots(); ++v)
     if (st.vertex(v).kind != delaunay::VertexKind::removed) at[st.point(v)] = v;
+  // The point set is invariant under a shift by T within the covering: every vertex whose
+  // translate lies in it has a twin there (box corners aside).
+  std::size_t twins_checked = 0, twins_missing = 0;
+  for (const auto& [p, v] : at) {
+    if (st.vertex(v).kind == delaunay::VertexKind::box) continue;
+    for (double shift : {-period.length, period.length}) {
+      Point4 q = p;
+      q[3] += shift;
+      if (q[3] < period.start - margin || q[3] >= period.start + period.length + margin) continue;
+      ++twins_checked;
+      twins_missing += !at.count(q);
+    }
+  }
+  EXPECT_GT(twins_checked, 1000u);
+  EXPECT_EQ(twins_missing, 0u) << "of " << twins_checked << " translates of vertices";
   std::set<std::array<mesh4d::VertexId, 5>> cells;
   for (delaunay::CellId c = 0; c < st.cell_slots(); ++c) {
     if (!st.is_live(c) || st.is_infinite(c)) continue;
