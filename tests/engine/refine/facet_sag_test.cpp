@@ -80,8 +80,19 @@ TEST(FacetSag, SectionsKeepTheirVoxelsVolumeFrameByFrame) {
   EXPECT_LT(with.mean, 0.85 * without.mean);
   EXPECT_LT(with.worst, without.worst);
   // The frames' volume fit after the offset (frame_volume_fit.h) brings every section of this
-  // phantom to within 1.5 % of its voxels.
-  EXPECT_LT(with.worst, 0.015);
+  // coarse phantom to within 2.5 % of its voxels, on other seeds too (seeds 1-12: worst
+  // 0.8-2.2 %; its moves reach their cap of half a voxel, and the ghost frames' sections past
+  // the caps stay out of reach).
+  EXPECT_LT(with.worst, 0.025);
+  for (std::uint64_t seed : {2, 3}) {
+    RefineParams other = params_with(true);
+    other.seed = seed;
+    const RefineResult r = refine_with_time_caps(image, other, nullptr, &warnings);
+    const FrameErrors e = frame_errors(r.mesh, image);
+    std::printf("seed %llu: frame volume errors mean %.4f worst %.4f\n",
+                static_cast<unsigned long long>(seed), e.mean, e.worst);
+    EXPECT_LT(e.worst, 0.025) << "seed " << seed;
+  }
   // No offset reaches farther than a facet's sag can be, its circumradius under 2Δ, and the
   // frames' volume fit's half a voxel (frame_volume_fit.h).
   EXPECT_LT(on.sag.largest_offset, 0.5 * 8 + 0.5 * 3.54);
