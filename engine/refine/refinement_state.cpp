@@ -83,10 +83,12 @@ void RefinementState::insert_junctions() {
 
 namespace {
 
-// A pentatope whose double determinant rounds to zero, though its exact orientation is
-// positive: its ball from exact determinants. Left without one, it would take no rule and no
-// label, and stand as a hole of the background inside a region, with its free vertices on the
-// region's boundary. Its ball decides no in-sphere question alone (center_error infinite).
+// A pentatope whose double center has no error bound: its ball from exact determinants. Where
+// the double determinant rounds to zero, though the exact orientation is positive, the
+// pentatope would otherwise take no rule and no label, and stand as a hole of the background
+// inside a region, with its free vertices on the region's boundary; where it does not, the
+// rounded center can lie a good part of the radius off, in another label. Its ball decides no
+// in-sphere question alone (center_error infinite).
 bool exact_ball(const Point4* const vertices[5], CellInfo& i) {
   const std::optional<Point4> center = delaunay::exact_circumcenter(vertices);
   if (!center) return false;
@@ -117,7 +119,10 @@ void RefinementState::admit(const std::vector<CellId>& cells) {
       // Rounded up to a float: a conversion moves a normal value by at most 2⁻²⁴ of it.
       const double e = balls[l].center_error;
       i.center_error = e < 1e-30 ? 1e-30f : static_cast<float>(e * (1 + 0x1p-20));
-      if (!std::isfinite(i.center[0]) && !exact_ball(vertices[l], i)) continue;  // flat
+      // Without an error bound the rounded center may be far off (ill-conditioned), or not
+      // finite: the exact one, where the simplex is not flat.
+      if (!std::isfinite(e) && !exact_ball(vertices[l], i) && !std::isfinite(i.center[0]))
+        continue;  // flat
       i.long_radius = i.radius / balls[l].shortest_edge >= params.radius_edge_bound;
       i.label_code = 0;
       i.surface_known = false;
