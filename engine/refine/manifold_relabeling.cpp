@@ -39,6 +39,17 @@ constexpr int kDetourDepth = 1;
 // Vertices per thread, at least, when a round's links are looked at again on the job's threads.
 constexpr std::size_t kCheckShare = 64;
 
+// By vertex then label, each once: in periodic time a vertex and its twin stand for the same
+// pair (counted_vertex); in open time the lists are in this order already.
+void distinct_pairs(std::vector<NonManifoldVertex>& pairs) {
+  const auto key = [](const NonManifoldVertex& f) { return std::pair(f.vertex, f.label); };
+  std::stable_sort(pairs.begin(), pairs.end(),
+                   [&](const auto& a, const auto& b) { return key(a) < key(b); });
+  pairs.erase(std::unique(pairs.begin(), pairs.end(),
+                          [&](const auto& a, const auto& b) { return key(a) == key(b); }),
+              pairs.end());
+}
+
 }  // namespace
 
 const std::vector<CellId>& ManifoldRelabeling::star_of(VertexId u) {
@@ -49,9 +60,13 @@ const std::vector<CellId>& ManifoldRelabeling::star_of(VertexId u) {
 
 long ManifoldRelabeling::failing_over(const std::vector<Move>& moves,
                                       const std::vector<Label>& labels, bool current) {
+  // (In periodic time the links the output has: a vertex past the middle sheet counts as its
+  // twin there.)
   std::vector<VertexId> vertices;
   for (const Move& m : moves)
-    for (VertexId v : state_.tri.store().cell(m.cell).v) vertices.push_back(v);
+    for (VertexId v : state_.tri.store().cell(m.cell).v)
+      if (const VertexId u = counted_vertex(state_, v); u != delaunay::kNoVertex)
+        vertices.push_back(u);
   std::sort(vertices.begin(), vertices.end());
   vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
   long failing = 0;
@@ -392,6 +407,7 @@ ManifoldRelabeling::Outcome ManifoldRelabeling::run(const std::vector<VertexId>*
   } else {
     failing = find_non_manifold_vertices(state_);
   }
+  distinct_pairs(failing);
   std::vector<VertexId> retry;  // vertices near this round's moves
   for (int round = 0; round < kRounds && !failing.empty(); ++round) {
     std::size_t moved = 0;
@@ -433,6 +449,7 @@ ManifoldRelabeling::Outcome ManifoldRelabeling::run(const std::vector<VertexId>*
       failing.insert(failing.end(), found[part].begin(), found[part].end());
       retry.insert(retry.end(), near[part].begin(), near[part].end());
     }
+    distinct_pairs(failing);
     std::sort(retry.begin(), retry.end());
     retry.erase(std::unique(retry.begin(), retry.end()), retry.end());
     touched_.clear();

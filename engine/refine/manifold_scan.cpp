@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 
 #include "mesh/link_topology.h"
@@ -115,8 +116,20 @@ void failing_labels(const RefinementState& state, VertexId v, std::span<const Ce
 
 }  // namespace
 
+VertexId counted_vertex(const RefinementState& state, VertexId v) {
+  if (!state.covering.active() || v == delaunay::kInfiniteVertex) return v;
+  const double t = state.tri.store().point(v)[3];
+  if (state.covering.in_middle(t)) return v;
+  const domain::TimePeriod& period = state.covering.period();
+  const int periods = static_cast<int>(std::floor((t - period.start) / period.length));
+  return state.covering.twin(state.tri, v, -periods);
+}
+
 void non_manifold_labels_at(const RefinementState& state, VertexId v, std::vector<CellId>& star,
                             std::vector<NonManifoldVertex>* out) {
+  v = counted_vertex(state, v);
+  star.clear();
+  if (v == delaunay::kNoVertex) return;
   state.tri.incident_cells(v, star);
   failing_labels(state, v, star, out);
 }

@@ -42,7 +42,13 @@ std::vector<mesh4d::VertexId> link_trouble(const RefinementState& state, mesh4d:
 /// on up to RefineParams::threads threads.
 std::vector<NonManifoldVertex> find_non_manifold_vertices(const RefinementState& state);
 
-/// The labels failing at one vertex (its star is collected into `star`).
+/// The vertex whose link stands for v's in the output: v itself in open time and in periodic
+/// time's middle sheet; elsewhere in the covering its twin in the middle sheet (the same link
+/// where the covering is trusted, and none of the cut-off's where it is not), or kNoVertex.
+mesh4d::VertexId counted_vertex(const RefinementState& state, mesh4d::VertexId v);
+
+/// The labels failing at counted_vertex(v) (its star is collected into `star`; nothing where
+/// there is none).
 void non_manifold_labels_at(const RefinementState& state, mesh4d::VertexId v,
                             std::vector<delaunay::CellId>& star,
                             std::vector<NonManifoldVertex>* out);
