@@ -250,11 +250,13 @@ TEST(PeriodicTime, ABallThatLivesAcrossTheEndOfTheCycleIsOnePieceOfTheGluedMesh)
 }
 
 // Pat02 as a job with `--delta 5 --time-topology periodic` prepares it (../shared/data/heart4d,
-// skipped where absent), seed 1: a small myocardium piece near the seam meets the large one
-// across a voxel corner. No cut separated the two, and the points sampled between them took
-// four rounds of sampling and matching to do it; with two rounds the mesh had one myocardium
-// piece where the image has two. About 20 s.
-TEST(PeriodicTime, APatientsCornerJoinedPieceIsSeparated) {
+// skipped where absent), seed 7. A small myocardium piece near the seam (frames 0–5) meets the
+// large one across a voxel corner, and its copy one period later lies near the covering's upper
+// end. The manifold steps once mended links of the copy's vertices past the trusted part of the
+// covering (the cut-off's links), and the labels they moved went to the middle sheet through
+// the twins: two vertices at t ≈ 20 were non-manifold, and two myocardium pieces touched there.
+// The sampling between the two pieces also takes three rounds on this seed. About 13 s.
+TEST(PeriodicTime, APatientsIslandNearTheSeamStaysApartAndManifold) {
   const std::filesystem::path file =
       std::filesystem::path(MESH4D_HEART_DATA_DIR) / "Pat02_mse4d_label4d.nii.gz";
   if (!std::filesystem::exists(file)) GTEST_SKIP() << "no real data: " << file << " is absent";
@@ -263,12 +265,12 @@ TEST(PeriodicTime, APatientsCornerJoinedPieceIsSeparated) {
   domain::clean_segmentation(cycle, domain::kDefaultMinIslandVoxels);
   RefineParams params;
   params.delta = 5;
-  params.seed = 1;
+  params.seed = 7;
   std::vector<std::string> warnings;
   const RefineResult r = refine_periodic(cycle, params, nullptr, &warnings);
   const FidelityCertificate certificate = certify(r.mesh, cycle);
   for (const LabelFidelity& l : certificate.labels) {
-    std::printf("Pat02 periodic, label %u: mesh %zu pieces (%zu touching), image %zu\n",
+    std::printf("Pat02 periodic, seed 7, label %u: mesh %zu pieces (%zu touching), image %zu\n",
                 unsigned{l.label}, l.mesh_pieces, l.touching_pieces, l.image_pieces);
     EXPECT_EQ(l.mesh_pieces, l.image_pieces) << "label " << l.label;
     EXPECT_EQ(l.touching_pieces, 0u) << "label " << l.label;
