@@ -87,6 +87,10 @@ std::uint32_t SurfaceOracle::piece_at(const Point4& x, Label label) const {
   return image_.at(v) == label ? pieces_.piece[v] : FacePieces::kNoPiece;
 }
 
+std::uint32_t SurfaceOracle::nearest_piece(const Point4& x) const {
+  return pieces_.piece[nearest_voxel(x, nullptr)];
+}
+
 Point4 SurfaceOracle::center_of(std::uint32_t voxel, std::uint32_t coordinates[4]) const {
   // 32-bit divisions: the feature transform's indices fit (it stores them in 32 bits).
   const Dims4& d = image_.dims();

@@ -70,6 +70,9 @@ class SurfaceOracle {
   const FacePieces& pieces() const { return pieces_; }
   /// The piece of the voxel nearest to x when that voxel has `label`, else FacePieces::kNoPiece.
   std::uint32_t piece_at(const Point4& x, Label label) const;
+  /// The piece of the voxel nearest to x, whatever its label (FacePieces::kNoPiece for the
+  /// background): piece_at(x, l) is this piece when its label is l.
+  std::uint32_t nearest_piece(const Point4& x) const;
   /// Its gradient (central differences at a tenth of a voxel: exact but within that distance of
   /// a voxel-center hyperplane, where the piecewise multilinear f has a kink).
   Vec4 cut_gradient(const Point4& x, Label a, Label b) const;

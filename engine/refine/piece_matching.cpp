@@ -36,9 +36,26 @@ constexpr int kPasses = 3;
 // Pentatope slots per thread, at least, when the pieces are found on the job's threads.
 constexpr std::size_t kMinShare = std::size_t{1} << 16;
 
+// The piece of the voxel nearest to each live finite pentatope's circumcenter, by cell (the
+// passes over the pieces move labels, not circumcenters: it is found once for them all).
+std::vector<std::uint32_t> nearest_pieces(const RefinementState& state) {
+  const auto& st = state.tri.store();
+  const std::size_t slots = st.cell_slots();
+  std::vector<std::uint32_t> nearest(slots, FacePieces::kNoPiece);
+  const unsigned parts = support::parts_for(slots, kMinShare, working_threads(state.params));
+  support::run_parts(parts, [&](unsigned part) {
+    const auto [begin, end] = support::part_range(slots, part, parts);
+    for (std::size_t c = begin; c < end; ++c)
+      if (st.is_live(static_cast<CellId>(c)) && state.info[c].finite)
+        nearest[c] = state.oracle.nearest_piece(state.info[c].center);
+  });
+  return nearest;
+}
+
 // The regions' facet-connected pieces, and the image piece each pentatope stands for.
 struct RegionPieces {
-  explicit RegionPieces(const RefinementState& state) : found(state.tri.store().cell_slots()) {
+  RegionPieces(const RefinementState& state, const std::vector<std::uint32_t>& nearest)
+      : found(state.tri.store().cell_slots()) {
     const auto& st = state.tri.store();
     const std::size_t slots = st.cell_slots();
     image_piece.assign(slots, FacePieces::kNoPiece);
@@ -47,6 +64,7 @@ struct RegionPieces {
     // too: a piece's root is its first pentatope, whatever the threads, and so are the ties
     // that the roots break below.
     std::vector<Label> label(slots, 0);
+    const std::vector<FacePieces::Piece>& image_pieces = state.oracle.pieces().pieces;
     const unsigned parts = support::parts_for(slots, kMinShare, working_threads(state.params));
     support::run_parts(parts, [&](unsigned part) {
       const auto [begin, end] = support::part_range(slots, part, parts);
@@ -56,7 +74,9 @@ struct RegionPieces {
         Label l = state.output_label(static_cast<CellId>(c));
         if (!state.output_region(l)) l = 0;
         label[c] = l;
-        if (l != 0) image_piece[c] = state.oracle.piece_at(state.info[c].center, l);
+        if (l == 0) continue;
+        const std::uint32_t p = nearest[c];
+        if (p != FacePieces::kNoPiece && image_pieces[p].label == l) image_piece[c] = p;
       }
     });
     support::run_parts(parts, [&](unsigned part) {
@@ -247,8 +267,9 @@ PieceMatching ManifoldRelabeling::match_image_pieces(bool leave_links) {
     return moves;
   };
 
+  const std::vector<std::uint32_t> nearest = nearest_pieces(state_);
   for (int pass = 0; pass < kPasses; ++pass) {
-    RegionPieces pieces(state_);
+    RegionPieces pieces(state_, nearest);
     out.unseparated.clear();  // those of the last pass: the earlier ones may have been cut since
     std::unordered_set<std::size_t> touched;  // roots acted on in this pass
     std::size_t actions = 0;
