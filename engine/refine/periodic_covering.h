@@ -21,9 +21,12 @@ namespace mesh4d::refine {
 class PeriodicCovering {
  public:
   PeriodicCovering() = default;
-  /// `margin`: how far the covering reaches past each end of the period (0: a whole period).
-  PeriodicCovering(const domain::TimePeriod& period, double margin)
-      : period_(period), margin_(margin > 0 ? margin : period.length) {}
+  /// `margin`: how far the covering reaches past each end of the period (0: a whole period);
+  /// `trusted`: how far its trusted band does (0: half the margin).
+  PeriodicCovering(const domain::TimePeriod& period, double margin, double trusted = 0)
+      : period_(period),
+        margin_(margin > 0 ? margin : period.length),
+        trusted_(trusted > 0 ? trusted : margin_ / 2) {}
 
   bool active() const { return period_.periodic(); }
   const domain::TimePeriod& period() const { return period_; }
@@ -34,11 +37,12 @@ class PeriodicCovering {
   }
   /// Whether something at time t is counted: in the middle sheet, or anywhere in open time.
   bool counts(double t) const { return !active() || in_middle(t); }
-  /// Whether a point's neighbourhood is a faithful copy of the cycle's: within half the margin
-  /// of the middle sheet (always, when time is open).
+  /// Whether a point lies in the trusted band, where the covering's image is the cycle's and
+  /// its cut-off ends' surface is not near: within `trusted` of the middle sheet (always, when
+  /// time is open). Only such points go in.
   bool trusted(const Point4& p) const {
-    return !active() || (p[3] >= period_.start - margin_ / 2 &&
-                         p[3] < period_.start + period_.length + margin_ / 2);
+    return !active() ||
+           (p[3] >= period_.start - trusted_ && p[3] < period_.start + period_.length + trusted_);
   }
   /// Whether a point lies in the covering (within the margin of the middle sheet): a copy
   /// beyond it is not inserted.
@@ -76,6 +80,7 @@ class PeriodicCovering {
   };
   domain::TimePeriod period_;
   double margin_ = 0;
+  double trusted_ = 0;
   std::unordered_map<Point4, mesh4d::VertexId, PointHash> where_;
 };
 

@@ -287,6 +287,18 @@ PieceMatching ManifoldRelabeling::match_image_pieces(bool leave_links) {
       return std::any_of(cells.begin(), cells.end(),
                          [&](CellId c) { return state_.covering.representative(state_.tri, c); });
     };
+    // In periodic time an image piece is cut off where it is mostly the middle sheet's, not
+    // where a copy of it fills a margin: that copy is cut with it (its pentatopes take their
+    // twins' labels), while a cut of the copy reaches the middle sheet only in part, through
+    // the twins of its pentatopes in the trusted band (Pat02 at seed 4 in a covering of 6
+    // frames: the copy one period on was cut first, and then no cut separated the middle
+    // sheet's island).
+    const auto mostly_in_middle_sheet = [&](const std::vector<CellId>& cells) {
+      const auto n = std::count_if(cells.begin(), cells.end(), [&](CellId c) {
+        return state_.covering.representative(state_.tri, c);
+      });
+      return 2 * static_cast<std::size_t>(n) >= cells.size();
+    };
     // Split: a piece that owns no image piece (or stands for none: pentatopes moved into the
     // label only), smallest first.
     std::vector<std::pair<std::size_t, std::size_t>> extra;  // (size, root)
@@ -374,9 +386,10 @@ PieceMatching ManifoldRelabeling::match_image_pieces(bool leave_links) {
         if (count[p] > count[main] || (count[p] == count[main] && p < main)) main = p;
       for (std::uint32_t p : owned) {
         if (p == main) continue;
-        ++out.merged_found;
         std::vector<CellId> island, rest;
         for (CellId c : cells) (pieces.image_piece[c] == p ? island : rest).push_back(c);
+        if (!mostly_in_middle_sheet(island)) continue;
+        ++out.merged_found;
         // The cuts weighed: layers on either side of where the two meet, one to three deep,
         // the rest's side first (the image piece keeps its pentatopes), then the piece's own.
         std::vector<std::vector<Move>> cuts;

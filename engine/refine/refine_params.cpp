@@ -37,6 +37,9 @@ void validate(const RefineParams& p) {
   require(std::isfinite(p.period_start), "period_start", p.period_start, "must be finite");
   require(std::isfinite(p.period_margin) && p.period_margin >= 0 && p.period_margin <= p.period,
           "period_margin", p.period_margin, "must be in [0, period] (0: a whole period)");
+  require(std::isfinite(p.period_trusted) && p.period_trusted >= 0 &&
+              p.period_trusted <= (p.period_margin > 0 ? p.period_margin : p.period),
+          "period_trusted", p.period_trusted, "must be in [0, period_margin] (0: half the margin)");
   require(p.vertex_budget >= 16, "vertex_budget", double(p.vertex_budget),
           "must be at least 16 (the box corners)");
 }

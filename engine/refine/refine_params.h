@@ -47,6 +47,9 @@ struct RefineParams {
   // How far the covering reaches past each end of the period (domain::tile_cycle's margin
   // frames × the time scale); 0: a whole period, the cycle tiled three times.
   double period_margin = 0;
+  // How far past each end of the period the rules' points go in (PeriodicCovering::trusted):
+  // twice the interior sizing bound, within the margin; 0: half the margin.
+  double period_trusted = 0;
 };
 
 /// Bad parameters: the message names the parameter and the accepted range.

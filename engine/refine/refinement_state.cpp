@@ -20,7 +20,7 @@ RefinementState::RefinementState(const domain::SurfaceOracle& oracle_in,
     : oracle(oracle_in),
       params(params_in),
       covering(domain::TimePeriod{params_in.period_start, params_in.period},
-               params_in.period_margin),
+               params_in.period_margin, params_in.period_trusted),
       features(params_in.delta) {}
 
 void RefinementState::set_twin_labels(CellId c, domain::Label label) {

@@ -46,11 +46,12 @@ RefineParams validated(const RefineParams& params) {
   if (p.period > 0) {
     // The copies of a point go in together, on one thread (Operation::insert).
     p.threads = 1;
-    // A labeled pentatope anchored in the trusted band (PeriodicCovering::trusted, half the
-    // margin around the middle sheet) then has its circumball within the covering, which
-    // reaches the whole margin past each end: it is a pentatope of the periodic Delaunay
-    // triangulation, not of the cut-off.
-    const double bound = (p.period_margin > 0 ? p.period_margin : p.period) / 4;
+    // A labeled pentatope of radius R through a vertex of the middle sheet, or anchored there,
+    // has its circumball within 2R of the middle sheet. With R at most half the trusted band
+    // (PeriodicCovering::trusted), that ball lies in the band: the pentatope is one of the
+    // periodic Delaunay triangulation, not of the cut-off, and its rule's point goes in.
+    const double margin = p.period_margin > 0 ? p.period_margin : p.period;
+    const double bound = (p.period_trusted > 0 ? p.period_trusted : margin / 2) / 2;
     p.max_interior_radius =
         p.max_interior_radius > 0 ? std::min(p.max_interior_radius, bound) : bound;
   }
