@@ -83,8 +83,8 @@ std::size_t SurfaceOracle::nearest_voxel(const Point4& x, Point4* center) const 
 }
 
 std::uint32_t SurfaceOracle::piece_at(const Point4& x, Label label) const {
-  const std::size_t v = nearest_voxel(x, nullptr);
-  return image_.at(v) == label ? pieces_.piece[v] : FacePieces::kNoPiece;
+  const std::uint32_t p = nearest_piece(x);
+  return p != FacePieces::kNoPiece && pieces_.pieces[p].label == label ? p : FacePieces::kNoPiece;
 }
 
 std::uint32_t SurfaceOracle::nearest_piece(const Point4& x) const {

@@ -44,6 +44,8 @@ class PeriodicCovering {
     return !active() ||
            (p[3] >= period_.start - trusted_ && p[3] < period_.start + period_.length + trusted_);
   }
+  /// How far the trusted band reaches past each end of the period.
+  double trusted_reach() const { return trusted_; }
   /// Whether a point lies in the covering (within the margin of the middle sheet): a copy
   /// beyond it is not inserted.
   bool in_covering(const Point4& p) const {

@@ -22,6 +22,7 @@
 #include "refine/manifold_sampling.h"
 #include "refine/operation.h"
 #include "refine/parallel_refiner.h"
+#include "refine/periodic_covering.h"
 #include "refine/pinch_repair.h"
 #include "refine/progress_meter.h"
 #include "refine/relabeling.h"
@@ -50,8 +51,10 @@ RefineParams validated(const RefineParams& params) {
     // has its circumball within 2R of the middle sheet. With R at most half the trusted band
     // (PeriodicCovering::trusted), that ball lies in the band: the pentatope is one of the
     // periodic Delaunay triangulation, not of the cut-off, and its rule's point goes in.
-    const double margin = p.period_margin > 0 ? p.period_margin : p.period;
-    const double bound = (p.period_trusted > 0 ? p.period_trusted : margin / 2) / 2;
+    const double bound =
+        PeriodicCovering({p.period_start, p.period}, p.period_margin, p.period_trusted)
+            .trusted_reach() /
+        2;
     p.max_interior_radius =
         p.max_interior_radius > 0 ? std::min(p.max_interior_radius, bound) : bound;
   }
