@@ -587,8 +587,7 @@ void JobManager::run(const std::string& id) {
     preparation.time_scale = entry->job.params().time_scale();
     preparation.periodic = periodic_time(entry->job.params());
     strict = entry->job.params().strict();
-    // Periodic time refines on one thread (refine_params.h): it takes one core.
-    share = cores_.start(preparation.periodic ? 1 : entry->job.params().threads(), queue_.size());
+    share = cores_.start(entry->job.params().threads(), queue_.size());
   }
   params.threads = share.threads;
   params.thread_budget = share.budget;

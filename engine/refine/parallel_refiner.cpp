@@ -51,6 +51,13 @@ std::uint64_t nanoseconds_since(Clock::time_point t0) {
   return nanoseconds_between(t0, Clock::now());
 }
 
+// Puts a popped candidate back on its worker's queue (thieves take from it meanwhile).
+void requeue(Worker& w, Rule rule, const Candidate& k) {
+  std::lock_guard lock(w.queue_mutex);
+  w.queues[index_of(rule)].push_back(k);
+  w.publish_length(index_of(rule));
+}
+
 // Spin politely: yield first, then sleep, so that oversubscribed threads let the others run.
 void back_off(unsigned& spins) {
   if (++spins < 16)
@@ -89,6 +96,9 @@ struct ParallelRefiner::Impl {
   // Past the job's thread budget: waits, counted idle and holding no work, until the budget
   // takes it back or the phase ends.
   void pause(Worker& w, Shared& shared);
+  // With the token held: waits until no other worker is inside an operation (so that none holds
+  // a lock); false when the phase stops meanwhile.
+  bool wait_alone(Worker& w, Shared& shared);
 
   RefinementState& state_;
   Operation& operation_;
@@ -129,6 +139,9 @@ struct ParallelRefiner::Impl::Lane {
   // Whether it runs an operation of a rule other than R5 (the others' R5 gate), on a cache line
   // of its own.
   alignas(64) std::atomic<bool> higher_in_flight{false};
+  // Whether it is inside an operation: a worker that must run alone (Outcome::exclusive) holds
+  // the token and waits until no other is.
+  alignas(64) std::atomic<bool> busy{false};
 };
 
 ParallelRefiner::ParallelRefiner(RefinementState& state, Operation& operation, Workers& workers,
@@ -277,6 +290,20 @@ void ParallelRefiner::Impl::pause(Worker& w, Shared& shared) {
   w.idle_ns.fetch_add(nanoseconds_since(t0), std::memory_order_relaxed);
 }
 
+bool ParallelRefiner::Impl::wait_alone(Worker& w, Shared& shared) {
+  const auto t0 = Clock::now();
+  unsigned spins = 0;
+  bool alone = false;
+  while (!alone && shared.running()) {
+    alone = true;
+    for (unsigned t = 0; t < shared.threads && alone; ++t)
+      alone = t == w.index || !lanes_[t]->busy.load(std::memory_order_seq_cst);
+    if (!alone) back_off(spins);
+  }
+  w.waiting_ns.fetch_add(nanoseconds_since(t0), std::memory_order_relaxed);
+  return alone;
+}
+
 void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) {
   Lane& lane = *lanes_[w.index];
   const int me = static_cast<int>(w.index);
@@ -348,20 +375,14 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
       }
 
       if (state_.tri.stamps_running_low()) {  // cleared between phases, by one thread
-        std::lock_guard lock(w.queue_mutex);
-        w.queues[index_of(rule)].push_back(k);
-        w.publish_length(index_of(rule));
+        requeue(w, rule, k);
         shared.stop.store(true, std::memory_order_release);
         break;
       }
       // R5 removes free vertices near its point: beside another worker's R3 insertion it undoes
       // work that is then redone (more pentatopes, more rollbacks). It waits, queued, instead.
       if (rule == Rule::R5 && higher_in_flight(shared)) {
-        {
-          std::lock_guard lock(w.queue_mutex);
-          w.queues[index_of(rule)].push_back(k);
-          w.publish_length(index_of(rule));
-        }
+        requeue(w, rule, k);
         const auto t0 = Clock::now();
         unsigned spins = 0;
         while (shared.running() && higher_in_flight(shared)) {
@@ -372,12 +393,45 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
         w.waiting_ns.fetch_add(nanoseconds_between(t0, last), std::memory_order_relaxed);
         continue;
       }
+      // Inside an operation from here: a worker waiting to run alone sees this, or this sees
+      // its token (both sequentially consistent, so one of the two must).
+      lane.busy.store(true, std::memory_order_seq_cst);
+      if (const int h = shared.priority.load(std::memory_order_seq_cst); h >= 0 && h != me) {
+        lane.busy.store(false, std::memory_order_release);
+        requeue(w, rule, k);
+        continue;
+      }
       if (rule != Rule::R5) lane.higher_in_flight.store(true, std::memory_order_release);
       if (w.index == 0 && ++lane.operations % kPollEvery == 0) tick();
-      const Outcome outcome = operation_.process(w, k);
+      Outcome outcome = operation_.process(w, k);
+      if (outcome == Outcome::exclusive) {
+        // In periodic time, a point's copies whose regions touch (the cells are still large):
+        // run it alone, once no other worker is inside an operation. Nothing was written.
+        w.locks.release_all();
+        lane.busy.store(false, std::memory_order_release);
+        if (rule != Rule::R5) lane.higher_in_flight.store(false, std::memory_order_release);
+        int none = -1;
+        shared.priority.compare_exchange_strong(none, me, std::memory_order_seq_cst);
+        if (shared.priority.load(std::memory_order_seq_cst) != me) {
+          requeue(w, rule, k);  // another runs alone first
+          continue;
+        }
+        lane.busy.store(true, std::memory_order_seq_cst);
+        if (!wait_alone(w, shared)) {
+          lane.busy.store(false, std::memory_order_release);
+          requeue(w, rule, k);
+          break;
+        }
+        last = Clock::now();  // (the wait was counted)
+        if (rule != Rule::R5) lane.higher_in_flight.store(true, std::memory_order_release);
+        w.exclusive = true;
+        outcome = operation_.process(w, k);
+        w.exclusive = false;
+      }
       if (rule != Rule::R5) lane.higher_in_flight.store(false, std::memory_order_release);
       const auto blocker = w.locks.take_blocker();
       w.locks.release_all();
+      lane.busy.store(false, std::memory_order_release);
       w.live_cells.store(w.cells.live, std::memory_order_relaxed);
       const auto ended = Clock::now();
       const std::uint64_t operation_ns = nanoseconds_between(last, ended);
@@ -398,11 +452,7 @@ void ParallelRefiner::Impl::work(Worker& w, Shared& shared, ProgressSink* sink) 
         }
         last = Clock::now();
         w.waiting_ns.fetch_add(nanoseconds_between(ended, last), std::memory_order_relaxed);
-        {
-          std::lock_guard lock(w.queue_mutex);
-          w.queues[index_of(rule)].push_back(k);
-          w.publish_length(index_of(rule));
-        }
+        requeue(w, rule, k);
         if (++lane.consecutive_rollbacks >= kPriorityAfter) {
           int none = -1;
           shared.priority.compare_exchange_strong(none, me, std::memory_order_acq_rel);
@@ -431,6 +481,7 @@ void ParallelRefiner::Impl::enter_parallel(unsigned threads) {
     w.guard = &w.locks;
     lane.consecutive_rollbacks = 0;
     lane.higher_in_flight.store(false, std::memory_order_relaxed);  // (a phase that failed)
+    lane.busy.store(false, std::memory_order_relaxed);
   }
 }
 
@@ -512,7 +563,7 @@ std::size_t ParallelRefiner::Impl::insert_points(const std::vector<RepairPoint>&
                                       &r.point, min_spacing);
         w.locks.release_all();
         if (outcome == Outcome::done) ++done[part];
-        if (outcome == Outcome::conflict) later[part].push_back(i);
+        if (outcome == Outcome::conflict || outcome == Outcome::exclusive) later[part].push_back(i);
       }
     });
   } catch (...) {

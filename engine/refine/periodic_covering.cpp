@@ -47,14 +47,18 @@ std::array<Point4, 3> PeriodicCovering::copies(const Point4& p) const {
   return out;
 }
 
+mesh4d::VertexId PeriodicCovering::vertex_inserted_at(const Point4& p) const {
+  const auto it = where_.find(p);
+  return it == where_.end() ? kNoVertex : it->second;
+}
+
 mesh4d::VertexId PeriodicCovering::vertex_at(const delaunay::Triangulation& tri,
                                              const Point4& p) const {
-  const auto it = where_.find(p);
-  if (it == where_.end()) return kNoVertex;
-  const auto& st = tri.store();
+  const mesh4d::VertexId v = vertex_inserted_at(p);
   // Removed vertices stay in the map: their ids are never handed out again.
-  if (st.vertex(it->second).kind == delaunay::VertexKind::removed) return kNoVertex;
-  return it->second;
+  if (v == kNoVertex || tri.store().vertex(v).kind == delaunay::VertexKind::removed)
+    return kNoVertex;
+  return v;
 }
 
 mesh4d::VertexId PeriodicCovering::twin(const delaunay::Triangulation& tri, mesh4d::VertexId v,

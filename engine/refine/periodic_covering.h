@@ -69,6 +69,9 @@ class PeriodicCovering {
   void add(mesh4d::VertexId v, const Point4& p) { where_[p] = v; }
   /// The live vertex at exactly p, or kNoVertex.
   mesh4d::VertexId vertex_at(const delaunay::Triangulation& tri, const Point4& p) const;
+  /// The vertex that was inserted at exactly p, live or not, or kNoVertex (reads no vertex: for
+  /// a thread that must lock the vertex before it looks at it).
+  mesh4d::VertexId vertex_inserted_at(const Point4& p) const;
   /// The vertex at v's point shifted by `periods` · T, or kNoVertex.
   mesh4d::VertexId twin(const delaunay::Triangulation& tri, mesh4d::VertexId v, int periods) const;
   /// The pentatopes that are c's translates in the other sheets of the covering (those that

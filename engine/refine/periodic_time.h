@@ -26,7 +26,7 @@ std::size_t periodic_margin_frames(const domain::LabelImage4& cycle, double delt
 
 /// Meshes `cycle` (cleaned, not closed) as periodic in time, from half a frame before its first
 /// frame to half a frame past its last. RefineParams::period_start and period are set here; the
-/// refinement runs on one thread. The closing's warnings about x, y and z go to `warnings`.
+/// refinement runs on RefineParams::threads. The closing's warnings about x, y and z go to `warnings`.
 /// Throws as Refiner::run and domain::ImageError (fewer than two frames).
 RefineResult refine_periodic(const domain::LabelImage4& cycle, const RefineParams& params,
                              ProgressSink* sink, std::vector<std::string>* warnings);

@@ -45,8 +45,6 @@ RefineParams validated(const RefineParams& params) {
   validate(params);
   RefineParams p = params;
   if (p.period > 0) {
-    // The copies of a point go in together, on one thread (Operation::insert).
-    p.threads = 1;
     // A labeled pentatope of radius R through a vertex of the middle sheet, or anchored there,
     // has its circumball within 2R of the middle sheet. With R at most half the trusted band
     // (PeriodicCovering::trusted), that ball lies in the band: the pentatope is one of the

@@ -47,7 +47,13 @@ struct Worker {
   std::vector<mesh4d::VertexId> near;               // the free vertices an R5 operation removes
   std::vector<mesh4d::VertexId> removed;            // those of near it did remove
   std::vector<std::pair<int, Candidate>> admitted;  // new pentatopes and their queues, to push
-  std::mutex queue_mutex;                           // the queues, which thieves also take from
+  // In periodic time: each copy's cavity and R5's free vertices near it, claimed before the
+  // first write; the pentatopes those change; whether this operation runs alone.
+  std::array<delaunay::Cavity, 3> copy_cavity;
+  std::array<std::vector<mesh4d::VertexId>, 3> copy_near;
+  std::vector<delaunay::CellId> region;
+  bool exclusive = false;
+  std::mutex queue_mutex;  // the queues, which thieves also take from
   std::array<support::BlockStack<Candidate>, kQueuedRules> queues;  // by index_of(rule)
   // Counters, read by the reporting thread while this one writes them.
   std::array<std::atomic<std::uint64_t>, 5> insertions{}, removals{};

@@ -104,9 +104,10 @@ std::pair<double, double> frame_errors(const mesh::Mesh4& m, const domain::Label
 
 // The ventricle over 12 frames in a covering that reaches `margin_frames` past each end of the
 // period (12: the cycle tiled three times), with a trusted band of `trusted_frames` (0: half the
-// margin).
+// margin), refined on `threads` threads.
 void expect_periodic_delaunay_glued_at_the_seam(std::size_t margin_frames,
-                                                std::size_t trusted_frames = 0) {
+                                                std::size_t trusted_frames = 0,
+                                                unsigned threads = 1) {
   domain::LabelImage4 cycle =
       domain::beating_ventricle_phantom({50, 50, 22, 12}, {3.54, 3.54, 12, 1});
   cycle.set_time_spacing(8);
@@ -122,6 +123,7 @@ void expect_periodic_delaunay_glued_at_the_seam(std::size_t margin_frames,
   const double margin = margin_frames < 12 ? 8.0 * double(margin_frames) : period.length;
   params.period_margin = margin_frames < 12 ? margin : 0;
   params.period_trusted = 8.0 * double(trusted_frames);
+  params.threads = threads;
   const double trusted = trusted_frames > 0 ? params.period_trusted : margin / 2;
   Refiner refiner(oracle, params);
   const RefineResult r = refiner.run();
@@ -230,6 +232,16 @@ TEST(PeriodicTime, ACoveringCutOffTwoFramesPastItsTrustedBandGivesAGluedCycleToo
   // A trusted band of 4Δ (pentatopes up to 2Δ in circumradius, as in a job), and two frames
   // past it.
   expect_periodic_delaunay_glued_at_the_seam(6, 4);
+}
+
+// On threads, every point's copies are claimed and committed as one operation (or, where their
+// regions touch, the operation runs alone): the covering stays periodic and Delaunay.
+TEST(PeriodicTime, OnThreadsTheCoveringIsPeriodicDelaunayAndTheCycleIsGluedAtTheSeam) {
+  expect_periodic_delaunay_glued_at_the_seam(6, 4, 2);
+}
+
+TEST(PeriodicTime, OnMoreThreadsThanCoresTheCoveringIsPeriodicDelaunayToo) {
+  expect_periodic_delaunay_glued_at_the_seam(12, 0, 4);
 }
 
 TEST(PeriodicTime, ABallThatLivesAcrossTheEndOfTheCycleIsOnePieceOfTheGluedMesh) {
