@@ -113,16 +113,16 @@ INSTANTIATE_TEST_SUITE_P(Threads, ParallelRefiner, ::testing::Values(1u, 2u, 4u,
 // before it writes (or runs alone where they touch), so the workers never meet in another sheet.
 // A short cycle at a coarse δ keeps it quick under ThreadSanitizer; periodic_time_test.cpp checks
 // the covering's invariance on threads vertex by vertex.
-TEST(ParallelPeriodicTime, ACycleOnThreadsIsGluedAndFaithful) {
+domain::LabelImage4 short_cycle() {
   domain::LabelImage4 cycle =
       domain::beating_ventricle_phantom({40, 40, 18, 8}, {3.54, 3.54, 12, 1});
   cycle.set_time_spacing(8);
-  RefineParams params;
-  params.delta = 8;
-  params.threads = 2;
-  std::vector<std::string> warnings;
-  const RefineResult r = refine_periodic(cycle, params, nullptr, &warnings);
-  std::printf("periodic, 2 threads: %llu pentatopes, %.2f s, %llu rollbacks\n",
+  return cycle;
+}
+
+void expect_glued_and_faithful(const RefineResult& r, const RefineParams& params,
+                               const domain::LabelImage4& cycle) {
+  std::printf("periodic, %u threads: %llu pentatopes, %.2f s, %llu rollbacks\n", params.threads,
               (unsigned long long)r.stats.pentatopes, r.stats.elapsed_seconds,
               (unsigned long long)r.rollbacks);
   EXPECT_GT(r.work_seconds, 0.0) << "the rules did not run on the threads";
@@ -132,6 +132,38 @@ TEST(ParallelPeriodicTime, ACycleOnThreadsIsGluedAndFaithful) {
   const FidelityCertificate certificate = certify(r.mesh, cycle);
   EXPECT_TRUE(certificate.defects().empty()) << ::testing::PrintToString(certificate.defects());
   for (const LabelFidelity& l : certificate.labels) EXPECT_EQ(l.mesh_pieces, l.image_pieces);
+}
+
+TEST(ParallelPeriodicTime, ACycleOnThreadsIsGluedAndFaithful) {
+  const domain::LabelImage4 cycle = short_cycle();
+  RefineParams params;
+  params.delta = 8;
+  params.threads = 2;
+  std::vector<std::string> warnings;
+  expect_glued_and_faithful(refine_periodic(cycle, params, nullptr, &warnings), params, cycle);
+}
+
+// The server moves cores between running jobs: workers pause and resume while others wait to
+// run an operation alone.
+TEST(ParallelPeriodicTime, ACycleWhoseThreadBudgetChangesMidRunIsGluedAndFaithful) {
+  const domain::LabelImage4 cycle = short_cycle();
+  RefineParams params;
+  params.delta = 8;
+  params.threads = 4;
+  auto budget = std::make_shared<ThreadBudget>(4);
+  params.thread_budget = budget;
+  std::atomic<bool> done{false};
+  std::thread mover([&] {
+    for (unsigned i = 0; !done.load(); ++i) {
+      budget->set_limit(i % 2 ? 4 : 1 + i % 3);
+      std::this_thread::sleep_for(std::chrono::milliseconds(3));
+    }
+  });
+  std::vector<std::string> warnings;
+  const RefineResult r = refine_periodic(cycle, params, nullptr, &warnings);
+  done = true;
+  mover.join();
+  expect_glued_and_faithful(r, params, cycle);
 }
 
 // Asks the refinement to stop once the watchdog has fired.
