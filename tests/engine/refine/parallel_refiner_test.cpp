@@ -109,6 +109,34 @@ TEST_P(ParallelRefiner, EveryPhantomPassesTheSequentialChecks) {
 
 INSTANTIATE_TEST_SUITE_P(Threads, ParallelRefiner, ::testing::Values(1u, 2u, 4u, 8u));
 
+// As a server moves cores between running jobs: gives `params` a thread budget whose limit
+// alternates every 3 ms between all of params.threads and fewer (1 up to threads - 1), until it
+// is destroyed.
+class BudgetMover {
+ public:
+  explicit BudgetMover(RefineParams& params)
+      : budget_(std::make_shared<ThreadBudget>(params.threads)),
+        thread_([this, n = params.threads] {
+          for (unsigned i = 0; !done_.load(); ++i) {
+            budget_->set_limit(i % 2 ? n : 1 + i % (n - 1));
+            std::this_thread::sleep_for(std::chrono::milliseconds(3));
+          }
+        }) {
+    params.thread_budget = budget_;
+  }
+  ~BudgetMover() {
+    done_ = true;
+    thread_.join();
+  }
+  BudgetMover(const BudgetMover&) = delete;
+  BudgetMover& operator=(const BudgetMover&) = delete;
+
+ private:
+  std::shared_ptr<ThreadBudget> budget_;
+  std::atomic<bool> done_{false};
+  std::thread thread_;
+};
+
 // Periodic time on threads: each operation claims the regions of all of its point's copies
 // before it writes (or runs alone where they touch), so the workers never meet in another sheet.
 // A short cycle at a coarse δ keeps it quick under ThreadSanitizer; periodic_time_test.cpp checks
@@ -150,19 +178,12 @@ TEST(ParallelPeriodicTime, ACycleWhoseThreadBudgetChangesMidRunIsGluedAndFaithfu
   RefineParams params;
   params.delta = 8;
   params.threads = 4;
-  auto budget = std::make_shared<ThreadBudget>(4);
-  params.thread_budget = budget;
-  std::atomic<bool> done{false};
-  std::thread mover([&] {
-    for (unsigned i = 0; !done.load(); ++i) {
-      budget->set_limit(i % 2 ? 4 : 1 + i % 3);
-      std::this_thread::sleep_for(std::chrono::milliseconds(3));
-    }
-  });
   std::vector<std::string> warnings;
-  const RefineResult r = refine_periodic(cycle, params, nullptr, &warnings);
-  done = true;
-  mover.join();
+  RefineResult r;
+  {
+    const BudgetMover mover(params);
+    r = refine_periodic(cycle, params, nullptr, &warnings);
+  }
   expect_glued_and_faithful(r, params, cycle);
 }
 
@@ -242,19 +263,12 @@ TEST(ThreadBudget, ALimitChangingMidRunLosesNoWork) {
   RefineParams params;
   params.delta = c.delta;
   params.threads = 8;
-  auto budget = std::make_shared<ThreadBudget>(8);
-  params.thread_budget = budget;
-  std::atomic<bool> done{false};
-  std::thread mover([&] {
-    for (unsigned i = 0; !done.load(); ++i) {
-      budget->set_limit(i % 2 ? 8 : 1 + i % 4);
-      std::this_thread::sleep_for(std::chrono::milliseconds(3));
-    }
-  });
   Refiner refiner(oracle, params);
-  const RefineResult r = refiner.run();
-  done = true;
-  mover.join();
+  RefineResult r;
+  {
+    const BudgetMover mover(params);
+    r = refiner.run();
+  }
   const auto check = delaunay::check_triangulation(refiner.triangulation());
   ASSERT_TRUE(check.ok) << check.error;
   EXPECT_LT(r.stats.radius_edge_ratio.max, params.radius_edge_bound);
