@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <future>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -162,29 +163,30 @@ void expect_glued_and_faithful(const RefineResult& r, const RefineParams& params
   for (const LabelFidelity& l : certificate.labels) EXPECT_EQ(l.mesh_pieces, l.image_pieces);
 }
 
-TEST(ParallelPeriodicTime, ACycleOnThreadsIsGluedAndFaithful) {
+// The short cycle meshed on `threads` threads, with the budget moving meanwhile if asked.
+void expect_cycle_on_threads_glued_and_faithful(unsigned threads, bool moving_budget) {
   const domain::LabelImage4 cycle = short_cycle();
   RefineParams params;
   params.delta = 8;
-  params.threads = 2;
+  params.threads = threads;
   std::vector<std::string> warnings;
-  expect_glued_and_faithful(refine_periodic(cycle, params, nullptr, &warnings), params, cycle);
+  RefineResult r;
+  {
+    std::optional<BudgetMover> mover;
+    if (moving_budget) mover.emplace(params);
+    r = refine_periodic(cycle, params, nullptr, &warnings);
+  }
+  expect_glued_and_faithful(r, params, cycle);
+}
+
+TEST(ParallelPeriodicTime, ACycleOnThreadsIsGluedAndFaithful) {
+  expect_cycle_on_threads_glued_and_faithful(2, false);
 }
 
 // The server moves cores between running jobs: workers pause and resume while others wait to
 // run an operation alone.
 TEST(ParallelPeriodicTime, ACycleWhoseThreadBudgetChangesMidRunIsGluedAndFaithful) {
-  const domain::LabelImage4 cycle = short_cycle();
-  RefineParams params;
-  params.delta = 8;
-  params.threads = 4;
-  std::vector<std::string> warnings;
-  RefineResult r;
-  {
-    const BudgetMover mover(params);
-    r = refine_periodic(cycle, params, nullptr, &warnings);
-  }
-  expect_glued_and_faithful(r, params, cycle);
+  expect_cycle_on_threads_glued_and_faithful(4, true);
 }
 
 // Asks the refinement to stop once the watchdog has fired.
