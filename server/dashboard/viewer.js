@@ -96,17 +96,20 @@ export class SliceViewer {
     this.renderer.render(this.scene, this.camera);
   }
 
-  // Loads the slice at t of the job; resolves to the surface (its time span included).
-  async load(jobId, t) {
+  // The slice at t of the job, decoded (its time span included); show() draws it.
+  async fetchSurface(jobId, t) {
     const r = await fetch(`/v1/jobs/${encodeURIComponent(jobId)}/slices/${t}.surface`,
                           { credentials: "same-origin" });
     if (!r.ok) {
       const body = await r.json().catch(() => ({}));
       throw new Error(`${body.code || r.status}: ${body.message || "slice not available"}`);
     }
-    this.surface = decodeSurface(await r.arrayBuffer());
+    return decodeSurface(await r.arrayBuffer());
+  }
+
+  show(surface) {
+    this.surface = surface;
     this.draw();
-    return this.surface;
   }
 
   setColorBy(mode) {

@@ -91,6 +91,15 @@ def wait_for_draw(tools, job, drawn_before, timeout=120):
     return None
 
 
+def slider_time(tools):
+    """The instant the slider names, as the page computes it."""
+    return float(tools.evaluate("String(stepTime(Number(document.getElementById('time').value)))"))
+
+
+def shows_slider_time(state, t):
+    return state is not None and abs(state["time"] - t) <= 1e-9 * max(1.0, abs(t))
+
+
 def server_triangles(base, job, t):
     """The triangles of the slice at t: from the compact surface, and from the .vtu boundary."""
     data = urllib.request.urlopen(f"{base}/v1/jobs/{job}/slices/{t!r}.surface").read()
@@ -156,13 +165,25 @@ def main():
         canvas = check_instant(tools, base, job, first, out_dir, "t1", failures)
         if canvas["drawn"] < 0.02 * canvas["width"] * canvas["height"]:
             failures.append(f"the canvas shows almost nothing of the mesh: {canvas}")
+        if first["drawn"] != 1 or not shows_slider_time(first, slider_time(tools)):
+            failures.append(f"the first drawing is not the slider's mid-cycle instant "
+                            f"{slider_time(tools)}: {first}")
 
-        # The slider to another instant of the cycle.
-        set_control(tools, "time", 40, "input")
+        # The slider dragged to another instant of the cycle: the instants on the way are asked
+        # for, and only the last is drawn, whatever order the answers come in.
+        tools.evaluate("{ const e = document.getElementById('time');"
+                       "  for (const v of [28, 32, 36, 40]) {"
+                       "    e.value = v; e.dispatchEvent(new Event('input')); } } 0")
         second = wait_for_draw(tools, job, first["drawn"])
+        time.sleep(1.0)  # time for any answer on the way to arrive
+        settled = viewer_state(tools)
         if not second or second["time"] == first["time"]:
             failures.append(f"moving the slider drew no other instant: {second}")
         else:
+            if (settled != second or second["drawn"] != first["drawn"] + 1
+                    or not shows_slider_time(second, slider_time(tools))):
+                failures.append(f"dragging the slider drew {second}, then {settled}: not once, "
+                                f"at the slider's instant {slider_time(tools)}")
             canvas = check_instant(tools, base, job, second, out_dir, "t2", failures)
             if canvas["changed"] < 0.002 * canvas["width"] * canvas["height"]:
                 failures.append(f"the canvas hardly changed between the instants: {canvas}")
