@@ -15,19 +15,17 @@
 // failures near three-label junctions faster than it removed them (on the ventricle, 340 failing
 // pairs grew to 718 after 1,876 points); after this step, on the few pairs it leaves, it
 // converges (manifold_sampling.h).
-//
-// On one thread the failing pairs are repaired in their order (by vertex, then label). On more,
-// each round's pairs are coloured so that no two of a colour can see each other's moves
-// (link_repair.h), and one colour's repairs run side by side: the labels depend on the pairs
-// alone, not on the number of threads.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <limits>
+#include <map>
+#include <unordered_map>
 #include <vector>
 
-#include "refine/link_repair.h"
 #include "refine/manifold_scan.h"
 #include "refine/piece_matching.h"
 #include "refine/pinch_scan.h"
@@ -36,8 +34,7 @@ namespace mesh4d::refine {
 
 class ManifoldRelabeling {
  public:
-  ManifoldRelabeling(RefinementState& state, const PinchScan& scan)
-      : state_(state), scan_(scan), repair_(state, scan) {}
+  ManifoldRelabeling(RefinementState& state, const PinchScan& scan) : state_(state), scan_(scan) {}
 
   struct Outcome {
     std::size_t moved = 0;                   // pentatopes that changed label
@@ -53,12 +50,16 @@ class ManifoldRelabeling {
   PieceMatching match_image_pieces(bool leave_links = false);
 
  private:
-  using Move = LabelMove;
-  static constexpr long kNotAllowed = LinkRepair::kNotAllowed;
-  // One round's repairs of `due`: in order on one thread, side by side in colours on more; the
-  // moved pentatopes' vertices are appended to `touched`. Returns how many moved.
-  std::size_t repair_all(const std::vector<NonManifoldVertex>& due,
-                         std::vector<mesh4d::VertexId>& touched);
+  struct Move {
+    delaunay::CellId cell;
+    domain::Label to;
+  };
+  // gain_of() of moves of which one may not move.
+  static constexpr long kNotAllowed = std::numeric_limits<long>::min();
+  // One failing pair: the best moves found around it, applied, and how many failing pairs they
+  // mended in all to *gained; false when none helps. depth > 0: a move that mends f but breaks
+  // others may be followed by repairs of those, depth - 1 levels down.
+  bool repair(const NonManifoldVertex& f, int depth, long* gained);
   // Whether a walk through `label`'s pentatopes from `from` meets one where `goal` holds (or
   // walks too far to tell); piece_matching.cpp.
   bool reaches(const std::vector<delaunay::CellId>& from, domain::Label label,
@@ -78,11 +79,46 @@ class ManifoldRelabeling {
   bool apply_mended(const std::vector<Move>& moves, const std::function<bool()>& done,
                     PieceMatching& out, bool guarded = false, domain::Label label = 0,
                     std::size_t spare = 0);
+  // Applies `moves`, journaled so that undo_to() can take them back.
+  void apply(const std::vector<Move>& moves);
+  void undo_to(std::size_t journal_mark, std::size_t touched_mark);
+  // The star of u, kept while one failing vertex is repaired (labels change, stars do not).
+  const std::vector<delaunay::CellId>& star_of(mesh4d::VertexId u);
+  // Failing (vertex, label) pairs over the moved pentatopes' vertices and the labels involved;
+  // `current`: with the labels as they are (kept in current_ while f is repaired).
+  long failing_over(const std::vector<Move>& moves, const std::vector<domain::Label>& labels,
+                    bool current);
+  // How many failing pairs `moves` removes; the least long when one of them may not move.
+  long gain_of(const std::vector<Move>& moves);
+  // Whether `moves` pinch no triangle more and keep their new boundary facets near ∂Ω; with
+  // `pinches_mended`, only the latter (a pinched triangle fails its vertices' links, which the
+  // caller then requires mended).
+  bool acceptable(const std::vector<Move>& moves, bool pinches_mended = false);
+  // Whether every facet that `moves` (applied; `old` their labels before) put on a region's
+  // boundary has its centroid within kMaxSag·Δ of ∂Ω.
+  bool new_boundary_near_surface(const std::vector<Move>& moves,
+                                 const std::vector<domain::Label>& old);
+  // Whether the facet's centroid lies within `bound` of ∂Ω.
+  bool facet_near_surface(const std::array<mesh4d::VertexId, 4>& facet, double bound) const;
+  // The options of one tier at f: 0 single pentatopes, 1 facet-adjacent pairs (both through one
+  // of the `focus` vertices when there are any: link_trouble()), 2 the pieces, 3 the complements
+  // of balls in the link.
+  std::vector<std::vector<Move>> options_at(const NonManifoldVertex& f,
+                                            const std::vector<delaunay::CellId>& star, int tier,
+                                            const std::vector<mesh4d::VertexId>& focus) const;
+
   RefinementState& state_;
   const PinchScan& scan_;
-  LinkRepair repair_;                   // in order, and for piece matching
-  std::vector<LinkRepair> repairers_;   // one per thread, side by side
-  std::vector<std::uint64_t> colours_;  // per vertex: the colours whose claims hold it
+  std::unordered_map<mesh4d::VertexId, std::vector<delaunay::CellId>> stars_;
+  std::unordered_map<std::uint64_t, bool> current_;  // (vertex << 16 | label) -> fails
+  std::vector<mesh4d::VertexId> touched_;            // vertices of the pentatopes moved this round
+  std::vector<Move> journal_;                        // applied moves, with the label each left
+  // While piece matching mends around a cut: moves that give a pentatope guarded_label_ are
+  // not allowed when guard_ holds after them (the cut piece joined again).
+  std::function<bool()> guard_;
+  domain::Label guarded_label_ = 0;
+  // Facets (sorted vertices) already asked whether they lie near ∂Ω, and the answer.
+  std::map<std::array<mesh4d::VertexId, 4>, bool> near_facets_;
 };
 
 }  // namespace mesh4d::refine

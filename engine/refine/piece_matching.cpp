@@ -156,15 +156,16 @@ bool ManifoldRelabeling::reaches(const std::vector<CellId>& from, Label label,
 bool ManifoldRelabeling::apply_mended(const std::vector<Move>& moves,
                                       const std::function<bool()>& done, PieceMatching& out,
                                       bool guarded, Label label, std::size_t spare) {
-  repair_.forget_links();
-  const long gain = repair_.gain_of(moves);
+  stars_.clear();
+  current_.clear();
+  const long gain = gain_of(moves);
   // Pinches the moves make fail their vertices' links, which must then be mended.
-  if (gain == kNotAllowed || !repair_.acceptable(moves, gain < 0)) return false;
+  if (gain == kNotAllowed || !acceptable(moves, gain < 0)) return false;
   std::vector<Label> labels;
   for (const Move& m : moves) labels.push_back(m.to), labels.push_back(state_.output_label(m.cell));
   std::sort(labels.begin(), labels.end());
   labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
-  const std::size_t before = static_cast<std::size_t>(repair_.failing_over(moves, labels, true));
+  const std::size_t before = static_cast<std::size_t>(failing_over(moves, labels, true));
   // The labels as they were, for the undo (the manifold step's moves are not journaled).
   std::vector<std::pair<CellId, Label>> saved;
   if (gain < 0)
@@ -182,16 +183,17 @@ bool ManifoldRelabeling::apply_mended(const std::vector<Move>& moves,
     // Links the moves broke: the manifold step mends them, or all is undone.
     std::sort(around.begin(), around.end());
     around.erase(std::unique(around.begin(), around.end()), around.end());
-    if (guarded) repair_.set_guard([&] { return !done(); }, label);
+    if (guarded) guard_ = [&] { return !done(); }, guarded_label_ = label;
     const Outcome mended = run(&around);
-    repair_.set_guard(nullptr, 0);
+    guard_ = nullptr;
     moved += mended.moved;
     kept = mended.failing.size() <= before + spare && done();
     if (kept && mended.failing.size() <= before) out.links_mended += before - mended.failing.size();
     if (kept && mended.failing.size() > before)
       out.failing.insert(out.failing.end(), mended.failing.begin(), mended.failing.end());
   }
-  repair_.forget_links();
+  stars_.clear();
+  current_.clear();
   if (!kept) {
     for (const auto& [c, l] : saved)
       if (state_.output_label(c) != l) state_.set_label(c, l);
@@ -442,7 +444,9 @@ PieceMatching ManifoldRelabeling::match_image_pieces(bool leave_links) {
     }
     if (actions == 0) break;
   }
-  repair_.forget_all();
+  stars_.clear();
+  current_.clear();
+  near_facets_.clear();
   return out;
 }
 
