@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 
 #include "mesh/link_topology.h"
 #include "support/parallel_parts.h"
@@ -137,18 +138,18 @@ void non_manifold_labels_at(const RefinementState& state, VertexId v, std::vecto
 std::vector<NonManifoldVertex> find_non_manifold_vertices(const RefinementState& state) {
   // The boundary vertices (those of a pentatope with a neighbor of another label), then their
   // stars from passes over the pentatopes (a counting sort: a star search per vertex cost three
-  // times as much), each pass on the job's threads. With several threads a star's pentatopes
-  // come in any order; the links do not depend on it.
+  // times as much), each pass on the job's threads, each star in pentatope order.
   const auto& st = state.tri.store();
   const std::size_t slots = st.cell_slots();
   const unsigned threads = working_threads(state.params);
   const unsigned cell_parts = support::parts_for(slots, kCellsPerThread, threads);
+  const auto over_part = [&](unsigned part, auto fn) {
+    const auto [begin, end] = support::part_range(slots, part, cell_parts);
+    for (std::size_t c = begin; c < end; ++c)
+      if (st.is_live(static_cast<CellId>(c))) fn(static_cast<CellId>(c));
+  };
   const auto over_cells = [&](auto fn) {
-    support::run_parts(cell_parts, [&](unsigned part) {
-      const auto [begin, end] = support::part_range(slots, part, cell_parts);
-      for (std::size_t c = begin; c < end; ++c)
-        if (st.is_live(static_cast<CellId>(c))) fn(static_cast<CellId>(c));
-    });
+    support::run_parts(cell_parts, [&](unsigned part) { over_part(part, fn); });
   };
   std::vector<std::uint8_t> marked(st.vertex_slots(), 0);
   over_cells([&](CellId c) {
@@ -157,7 +158,11 @@ std::vector<NonManifoldVertex> find_non_manifold_vertices(const RefinementState&
     const auto& cell = st.cell(c);
     for (int f = 0; f < 5; ++f)
       if (state.output_label(cell.n[f]) != l) {
-        for (VertexId v : cell.v) std::atomic_ref(marked[v]).store(1, std::memory_order_relaxed);
+        // (Read first: most are marked already, and a store would take the line from the other
+        // threads.)
+        for (VertexId v : cell.v)
+          if (std::atomic_ref a(marked[v]); !a.load(std::memory_order_relaxed))
+            a.store(1, std::memory_order_relaxed);
         break;
       }
   });
@@ -169,28 +174,34 @@ std::vector<NonManifoldVertex> find_non_manifold_vertices(const RefinementState&
       boundary.push_back(v);
     else
       marked[v] = 0;
-  std::vector<std::uint32_t> first(st.vertex_slots() + 1, 0);  // counts, then offsets
-  over_cells([&](CellId c) {
-    for (VertexId v : st.cell(c).v)
-      if (marked[v]) std::atomic_ref(first[v + 1]).fetch_add(1, std::memory_order_relaxed);
+  // Each part counts its pentatopes per vertex, then writes them at its own offsets: no
+  // counter is shared (atomic counters cost more on two threads than the pass on one), and
+  // every star is in pentatope order, as on one thread.
+  const std::size_t vertex_slots = st.vertex_slots();
+  std::vector<std::vector<std::uint32_t>> counts(cell_parts,
+                                                 std::vector<std::uint32_t>(vertex_slots, 0));
+  support::run_parts(cell_parts, [&](unsigned part) {
+    std::vector<std::uint32_t>& count = counts[part];
+    over_part(part, [&](CellId c) {
+      for (VertexId v : st.cell(c).v)
+        if (marked[v]) ++count[v];
+    });
   });
-  for (std::size_t v = 0; v + 1 < first.size(); ++v) first[v + 1] += first[v];
-  std::vector<CellId> stars(first.back());
-  {
-    std::vector<std::uint32_t> next(first.begin(), first.end() - 1);
-    if (cell_parts == 1) {  // in cell order: the same stars as ever with one thread
-      over_cells([&](CellId c) {
-        for (VertexId v : st.cell(c).v)
-          if (marked[v]) stars[next[v]++] = c;
-      });
-    } else {
-      over_cells([&](CellId c) {
-        for (VertexId v : st.cell(c).v)
-          if (marked[v])
-            stars[std::atomic_ref(next[v]).fetch_add(1, std::memory_order_relaxed)] = c;
-      });
-    }
+  // first[v]: where v's star starts; counts[part][v] becomes where the part's share of it does.
+  std::vector<std::uint32_t> first(vertex_slots + 1, 0);
+  for (std::size_t v = 0; v < vertex_slots; ++v) {
+    std::uint32_t at = first[v];
+    for (unsigned part = 0; part < cell_parts; ++part) at += std::exchange(counts[part][v], at);
+    first[v + 1] = at;
   }
+  std::vector<CellId> stars(first.back());
+  support::run_parts(cell_parts, [&](unsigned part) {
+    std::vector<std::uint32_t>& next = counts[part];
+    over_part(part, [&](CellId c) {
+      for (VertexId v : st.cell(c).v)
+        if (marked[v]) stars[next[v]++] = c;
+    });
+  });
 
   const unsigned parts = static_cast<unsigned>(std::min<std::size_t>(
       working_threads(state.params), std::max<std::size_t>(1, boundary.size() / kScanPerThread)));
