@@ -138,10 +138,7 @@ class BudgetMover {
   std::thread thread_;
 };
 
-// Periodic time on threads: each operation claims the regions of all of its point's copies
-// before it writes (or runs alone where they touch), so the workers never meet in another sheet.
-// A short cycle at a coarse δ keeps it quick under ThreadSanitizer; periodic_time_test.cpp checks
-// the covering's invariance on threads vertex by vertex.
+// A short cycle at a coarse δ: quick under ThreadSanitizer.
 domain::LabelImage4 short_cycle() {
   domain::LabelImage4 cycle =
       domain::beating_ventricle_phantom({40, 40, 18, 8}, {3.54, 3.54, 12, 1});
@@ -179,6 +176,9 @@ void expect_cycle_on_threads_glued_and_faithful(unsigned threads, bool moving_bu
   expect_glued_and_faithful(r, params, cycle);
 }
 
+// Periodic time on threads: each operation claims the regions of all of its point's copies
+// before it writes (or runs alone where they touch), so the workers never meet in another sheet.
+// periodic_time_test.cpp checks the covering's invariance on threads vertex by vertex.
 TEST(ParallelPeriodicTime, ACycleOnThreadsIsGluedAndFaithful) {
   expect_cycle_on_threads_glued_and_faithful(2, false);
 }
