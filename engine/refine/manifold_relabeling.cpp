@@ -39,17 +39,6 @@ constexpr int kDetourDepth = 1;
 // Vertices per thread, at least, when a round's links are looked at again on the job's threads.
 constexpr std::size_t kCheckShare = 64;
 
-// By vertex then label, each once: in periodic time a vertex and its twin stand for the same
-// pair (counted_vertex); in open time the lists are in this order already.
-void distinct_pairs(std::vector<NonManifoldVertex>& pairs) {
-  const auto key = [](const NonManifoldVertex& f) { return std::pair(f.vertex, f.label); };
-  std::stable_sort(pairs.begin(), pairs.end(),
-                   [&](const auto& a, const auto& b) { return key(a) < key(b); });
-  pairs.erase(std::unique(pairs.begin(), pairs.end(),
-                          [&](const auto& a, const auto& b) { return key(a) == key(b); }),
-              pairs.end());
-}
-
 }  // namespace
 
 const std::vector<CellId>& ManifoldRelabeling::star_of(VertexId u) {
@@ -400,10 +389,7 @@ ManifoldRelabeling::Outcome ManifoldRelabeling::run(const std::vector<VertexId>*
   Outcome outcome;
   std::vector<NonManifoldVertex> failing;
   if (around) {
-    std::vector<CellId> star;
-    for (VertexId v : *around)
-      if (state_.tri.store().vertex(v).kind != delaunay::VertexKind::removed)
-        non_manifold_labels_at(state_, v, star, &failing);
+    failing = failing_pairs_at(state_, *around);
   } else {
     failing = find_non_manifold_vertices(state_);
   }

@@ -219,4 +219,23 @@ std::vector<NonManifoldVertex> find_non_manifold_vertices(const RefinementState&
   return all;
 }
 
+std::vector<NonManifoldVertex> failing_pairs_at(const RefinementState& state,
+                                                const std::vector<VertexId>& vertices) {
+  std::vector<NonManifoldVertex> failing;
+  std::vector<CellId> star;
+  for (VertexId v : vertices)
+    if (state.tri.store().vertex(v).kind != delaunay::VertexKind::removed)
+      non_manifold_labels_at(state, v, star, &failing);
+  return failing;
+}
+
+void distinct_pairs(std::vector<NonManifoldVertex>& pairs) {
+  const auto key = [](const NonManifoldVertex& f) { return std::pair(f.vertex, f.label); };
+  std::stable_sort(pairs.begin(), pairs.end(),
+                   [&](const auto& a, const auto& b) { return key(a) < key(b); });
+  pairs.erase(std::unique(pairs.begin(), pairs.end(),
+                          [&](const auto& a, const auto& b) { return key(a) == key(b); }),
+              pairs.end());
+}
+
 }  // namespace mesh4d::refine

@@ -42,6 +42,14 @@ std::vector<mesh4d::VertexId> link_trouble(const RefinementState& state, mesh4d:
 /// on up to RefineParams::threads threads.
 std::vector<NonManifoldVertex> find_non_manifold_vertices(const RefinementState& state);
 
+/// The failing (vertex, label) pairs at `vertices` (removed ones skipped), in the order given.
+std::vector<NonManifoldVertex> failing_pairs_at(const RefinementState& state,
+                                                const std::vector<mesh4d::VertexId>& vertices);
+
+/// Sorts `pairs` by vertex then label and keeps each once (in periodic time a vertex and its
+/// twin stand for the same pair: counted_vertex).
+void distinct_pairs(std::vector<NonManifoldVertex>& pairs);
+
 /// The vertex whose link stands for v's in the output: v itself in open time and in periodic
 /// time's middle sheet; elsewhere in the covering its twin in the middle sheet (the same link
 /// where the covering is trusted, and none of the cut-off's where it is not), or kNoVertex.

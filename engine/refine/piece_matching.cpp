@@ -189,8 +189,16 @@ bool ManifoldRelabeling::apply_mended(const std::vector<Move>& moves,
     moved += mended.moved;
     kept = mended.failing.size() <= before + spare && done();
     if (kept && mended.failing.size() <= before) out.links_mended += before - mended.failing.size();
-    if (kept && mended.failing.size() > before)
-      out.failing.insert(out.failing.end(), mended.failing.begin(), mended.failing.end());
+    // Every pair left failing goes to the caller, also when fewer fail than before: the moves
+    // may mend some links and break others (Pat02 in periodic time: a cut left its two pieces
+    // touching at a vertex that nothing looked at again).
+    if (kept) out.failing.insert(out.failing.end(), mended.failing.begin(), mended.failing.end());
+  } else if (kept) {
+    // Moves that mend more than they break may still break a link: those left are listed too.
+    std::sort(around.begin(), around.end());
+    around.erase(std::unique(around.begin(), around.end()), around.end());
+    const std::vector<NonManifoldVertex> left = failing_pairs_at(state_, around);
+    out.failing.insert(out.failing.end(), left.begin(), left.end());
   }
   stars_.clear();
   current_.clear();

@@ -15,7 +15,8 @@
 #include <algorithm>
 #include <chrono>
 #include <sstream>
-#include <tuple>
+#include <stdexcept>
+#include <string>
 
 #include "refine/extraction.h"
 #include "refine/manifold_relabeling.h"
@@ -253,12 +254,40 @@ struct Refiner::Pipeline {
   PinchRepair repair;
   Relabeling relabeling;
   double rules_seconds = 0;
+  bool check_failing_lists = false;
+  std::size_t failing_lists_checked = 0;
 };
 
 Refiner::Refiner(const domain::SurfaceOracle& oracle, const RefineParams& params)
     : pipeline_(std::make_unique<Pipeline>(oracle, params)) {}
 
 Refiner::~Refiner() = default;
+
+namespace {
+
+// set_failing_list_check: the match is run between two full scans, and every pair failing after
+// it must have failed before it or be on its list.
+PieceMatching checked_match(RefinementState& state, ManifoldRelabeling& step, bool leave_links,
+                            bool check, std::size_t& checked) {
+  if (!check) return step.match_image_pieces(leave_links);
+  std::vector<NonManifoldVertex> before = find_non_manifold_vertices(state);
+  PieceMatching matched = step.match_image_pieces(leave_links);
+  std::vector<NonManifoldVertex> listed = matched.failing;
+  listed.insert(listed.end(), before.begin(), before.end());
+  distinct_pairs(listed);
+  std::vector<NonManifoldVertex> after = find_non_manifold_vertices(state);
+  distinct_pairs(after);
+  const auto key = [](const NonManifoldVertex& f) { return std::pair(f.vertex, f.label); };
+  for (const NonManifoldVertex& f : after)
+    if (!std::binary_search(listed.begin(), listed.end(), f,
+                            [&](const auto& a, const auto& b) { return key(a) < key(b); }))
+      throw std::logic_error("piece matching left vertex " + std::to_string(f.vertex) +
+                             " failing for label " + std::to_string(f.label) + " unlisted");
+  ++checked;
+  return matched;
+}
+
+}  // namespace
 
 RefineResult Refiner::run(ProgressSink* sink) {
   Pipeline& p = *pipeline_;
@@ -280,7 +309,8 @@ RefineResult Refiner::run(ProgressSink* sink) {
   result.relabeled += manifold.moved;
   clock.lap(Stage::manifold);
   // Pieces first matched with links left to the sampling, then matched again on its mesh.
-  PieceMatching matched = manifold_step.match_image_pieces(true);
+  PieceMatching matched =
+      checked_match(p.state, manifold_step, true, p.check_failing_lists, p.failing_lists_checked);
   result.relabeled += matched.moved;
   const auto count = [&](const PieceMatching& m) {
     result.pieces_removed += m.removed;
@@ -290,14 +320,7 @@ RefineResult Refiner::run(ProgressSink* sink) {
   count(matched);
   std::vector<NonManifoldVertex> failing = std::move(manifold.failing);
   failing.insert(failing.end(), matched.failing.begin(), matched.failing.end());
-  std::sort(failing.begin(), failing.end(), [](const auto& a, const auto& b) {
-    return std::tie(a.vertex, a.label) < std::tie(b.vertex, b.label);
-  });
-  failing.erase(std::unique(failing.begin(), failing.end(),
-                            [](const auto& a, const auto& b) {
-                              return a.vertex == b.vertex && a.label == b.label;
-                            }),
-                failing.end());
+  distinct_pairs(failing);
   clock.lap(Stage::piece_matching);
   std::vector<RepairPoint> unseparated = std::move(matched.unseparated);
   std::size_t left = 0;  // failing links after the last sampling and match
@@ -309,22 +332,39 @@ RefineResult Refiner::run(ProgressSink* sink) {
     result.manifold_rounds += sampled.rounds;
     result.manifold_points += sampled.points;
     left = sampled.failing.size();
-    if (sampled.points == 0) break;
+    // Nothing changed since the last match.
+    if (sampled.points == 0 && sampled.moved == 0) break;
     // The sampling's rules may have joined a cut piece again; a piece no cut separates hands
-    // back where ∂Ω is to be sampled between its two image pieces, for another round.
-    matched = manifold_step.match_image_pieces();
+    // back where ∂Ω is to be sampled between its two image pieces, for another round. The
+    // match's moves may leave links failing too: they are sampled in the next round.
+    matched = checked_match(p.state, manifold_step, false, p.check_failing_lists,
+                            p.failing_lists_checked);
     result.relabeled += matched.moved;
     count(matched);
-    left -= std::min(matched.links_mended, left);
     clock.lap(Stage::piece_matching);
-    if (matched.unseparated.empty() || round == kSeparationRounds) break;
-    // The links still failing (the match may have mended some), for the next sampling.
+    // The links still failing: those the sampling left (the match may have mended some) and
+    // those the match's moves left, mended where the manifold step can.
     std::vector<VertexId> around;
     for (const NonManifoldVertex& f : sampled.failing) around.push_back(f.vertex);
+    for (const NonManifoldVertex& f : matched.failing) around.push_back(f.vertex);
     std::sort(around.begin(), around.end());
     around.erase(std::unique(around.begin(), around.end()), around.end());
     const ManifoldRelabeling::Outcome rechecked = manifold_step.run(&around);
     result.relabeled += rechecked.moved;
+    left = rechecked.failing.size();
+    // Another round where pieces are still joined, where links fail that the sampling has not
+    // had, or where the mending moved pentatopes after the match (it may have joined a cut
+    // piece again).
+    const bool fresh = std::any_of(
+        rechecked.failing.begin(), rechecked.failing.end(), [&](const NonManifoldVertex& f) {
+          return std::none_of(sampled.failing.begin(), sampled.failing.end(),
+                              [&](const NonManifoldVertex& g) {
+                                return g.vertex == f.vertex && g.label == f.label;
+                              });
+        });
+    if ((matched.unseparated.empty() && !fresh && rechecked.moved == 0) ||
+        round == kSeparationRounds)
+      break;
     failing = rechecked.failing;
     unseparated = std::move(matched.unseparated);
   }
@@ -348,6 +388,12 @@ void Refiner::set_pinch_count_check(bool on) {
 }
 std::size_t Refiner::pinch_counts_checked() const {
   return pipeline_->repair.counts_checked();
+}
+void Refiner::set_failing_list_check(bool on) {
+  pipeline_->check_failing_lists = on;
+}
+std::size_t Refiner::failing_lists_checked() const {
+  return pipeline_->failing_lists_checked;
 }
 
 RefineResult refine(const domain::SurfaceOracle& oracle, const RefineParams& params,

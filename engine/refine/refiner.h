@@ -102,6 +102,11 @@ class Refiner final {
   /// pinch_counts_checked() says how many were compared.
   void set_pinch_count_check(bool on);
   std::size_t pinch_counts_checked() const;
+  /// Tests: around each piece matching a full scan lists the failing links before and after;
+  /// one that fails after it, not before, and that the match did not list for the manifold
+  /// sampling throws std::logic_error. failing_lists_checked() says how many were compared.
+  void set_failing_list_check(bool on);
+  std::size_t failing_lists_checked() const;
 
  private:
   struct Pipeline;
