@@ -324,6 +324,23 @@ RefineResult Refiner::run(ProgressSink* sink) {
   clock.lap(Stage::piece_matching);
   std::vector<RepairPoint> unseparated = std::move(matched.unseparated);
   std::size_t left = 0;  // failing links after the last sampling and match
+  // Whether labels moved after the last match: then it runs again, for those moves may have
+  // joined a piece to another.
+  bool moved_since_match = false;
+  const auto match_again = [&] {
+    matched = checked_match(p.state, manifold_step, false, p.check_failing_lists,
+                            p.failing_lists_checked);
+    result.relabeled += matched.moved;
+    count(matched);
+    moved_since_match = false;
+    clock.lap(Stage::piece_matching);
+  };
+  // The failing links at `around` now, each once.
+  const auto failing_at = [&](const std::vector<VertexId>& around) {
+    std::vector<NonManifoldVertex> pairs = failing_pairs_at(p.state, around);
+    distinct_pairs(pairs);
+    return pairs.size();
+  };
   for (int round = 0; round <= kSeparationRounds; ++round) {
     const ManifoldSampling::Outcome sampled =
         p.sample_manifold(std::move(failing), sink, std::move(unseparated));
@@ -332,29 +349,29 @@ RefineResult Refiner::run(ProgressSink* sink) {
     result.manifold_rounds += sampled.rounds;
     result.manifold_points += sampled.points;
     left = sampled.failing.size();
-    // Nothing changed since the last match.
-    if (sampled.points == 0 && sampled.moved == 0) break;
+    if (sampled.points == 0 && sampled.moved == 0 && !moved_since_match) break;
     // The sampling's rules may have joined a cut piece again; a piece no cut separates hands
     // back where ∂Ω is to be sampled between its two image pieces, for another round. The
     // match's moves may leave links failing too: they are sampled in the next round.
-    matched = checked_match(p.state, manifold_step, false, p.check_failing_lists,
-                            p.failing_lists_checked);
-    result.relabeled += matched.moved;
-    count(matched);
-    clock.lap(Stage::piece_matching);
-    // The links still failing: those the sampling left (the match may have mended some) and
-    // those the match's moves left, mended where the manifold step can.
+    match_again();
     std::vector<VertexId> around;
     for (const NonManifoldVertex& f : sampled.failing) around.push_back(f.vertex);
     for (const NonManifoldVertex& f : matched.failing) around.push_back(f.vertex);
     std::sort(around.begin(), around.end());
     around.erase(std::unique(around.begin(), around.end()), around.end());
+    if (matched.unseparated.empty() && matched.failing.empty()) {
+      // Nothing new: the links the sampling left, as the match leaves them.
+      left = failing_at(around);
+      break;
+    }
+    // The links still failing (those the sampling left, and those the match's moves left),
+    // mended where the manifold step can.
     const ManifoldRelabeling::Outcome rechecked = manifold_step.run(&around);
     result.relabeled += rechecked.moved;
+    moved_since_match = rechecked.moved > 0;
     left = rechecked.failing.size();
     // Another round where pieces are still joined, where links fail that the sampling has not
-    // had, or where the mending moved pentatopes after the match (it may have joined a cut
-    // piece again).
+    // had, or where the mending moved pentatopes after the match.
     const bool fresh = std::any_of(
         rechecked.failing.begin(), rechecked.failing.end(), [&](const NonManifoldVertex& f) {
           return std::none_of(sampled.failing.begin(), sampled.failing.end(),
@@ -362,9 +379,17 @@ RefineResult Refiner::run(ProgressSink* sink) {
                                 return g.vertex == f.vertex && g.label == f.label;
                               });
         });
-    if ((matched.unseparated.empty() && !fresh && rechecked.moved == 0) ||
-        round == kSeparationRounds)
+    if (matched.unseparated.empty() && !fresh && !moved_since_match) break;
+    if (round == kSeparationRounds) {
+      if (moved_since_match) {
+        match_again();
+        for (const NonManifoldVertex& f : matched.failing) around.push_back(f.vertex);
+        std::sort(around.begin(), around.end());
+        around.erase(std::unique(around.begin(), around.end()), around.end());
+        left = failing_at(around);
+      }
       break;
+    }
     failing = rechecked.failing;
     unseparated = std::move(matched.unseparated);
   }
