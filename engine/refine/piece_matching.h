@@ -37,8 +37,8 @@ struct PieceMatching {
   std::size_t cut = 0;           // of those, cut off
   std::size_t moved = 0;         // pentatopes that changed label
   std::size_t links_mended = 0;  // failing (vertex, label) links the moves mended
-  // With `leave_links` (manifold_relabeling.h): the failing links the cuts left, for the
-  // manifold sampling.
+  // Every failing link the kept moves left, for the manifold sampling (with `leave_links`,
+  // manifold_relabeling.h, a cut may leave a few more than failed before it).
   std::vector<NonManifoldVertex> failing;
   // Of the merged pieces no cut separated: where ∂Ω crosses the Voronoi edges between the
   // pentatopes that stand for the two image pieces (dual to the facets where they meet).
