@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
@@ -108,25 +109,43 @@ void keep_temp_dirs_if(bool (*keep)()) {
   g_keep_temp_dirs = keep;
 }
 
-std::string make_temp_dir(const std::string& prefix) {
-  // Removed when the program ends, unless the predicate says keep them (a failed test's, to be
-  // looked at): each holds a server's job store and meshes, and left behind they fill /tmp
-  // (75 GB once).
-  struct Cleanup {
-    std::vector<std::string> dirs;
-    ~Cleanup() {
-      if (g_keep_temp_dirs && g_keep_temp_dirs()) return;
+namespace {
+
+// The folders made so far, removed when the program ends (or before: remove_temp_dirs).
+struct TempDirs {
+  std::mutex mutex;
+  std::vector<std::string> dirs;
+  void remove() {
+    std::lock_guard lock(mutex);
+    if (!(g_keep_temp_dirs && g_keep_temp_dirs()))
       for (const auto& dir : dirs) {
         std::error_code ec;
         std::filesystem::remove_all(dir, ec);
       }
-    }
-  };
-  static Cleanup cleanup;
+    dirs.clear();
+  }
+  ~TempDirs() { remove(); }
+};
+
+TempDirs& temp_dirs() {
+  static TempDirs dirs;
+  return dirs;
+}
+
+}  // namespace
+
+std::string make_temp_dir(const std::string& prefix) {
+  // Each holds a server's job store and meshes, and left behind they fill /tmp (75 GB once).
   std::string pattern = (std::filesystem::temp_directory_path() / (prefix + "-XXXXXX")).string();
   if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-  cleanup.dirs.push_back(pattern);
+  TempDirs& made = temp_dirs();
+  std::lock_guard lock(made.mutex);
+  made.dirs.push_back(pattern);
   return pattern;
+}
+
+void remove_temp_dirs() {
+  temp_dirs().remove();
 }
 
 }  // namespace mesh4d::testing

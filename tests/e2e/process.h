@@ -38,9 +38,12 @@ class ChildProcess {
 std::string wait_for_file(const std::string& path, std::chrono::milliseconds timeout);
 
 /// A fresh directory under the system's temporary folder, removed with its contents when the
-/// program ends unless the predicate of keep_temp_dirs_if() says to keep them.
+/// program ends (or at remove_temp_dirs()) unless the predicate of keep_temp_dirs_if() says to
+/// keep them.
 std::string make_temp_dir(const std::string& prefix);
-/// The tests keep them when a test failed (temp_dir_policy.cpp).
+/// The tests keep them when a test failed (e2e_main.cpp).
 void keep_temp_dirs_if(bool (*keep)());
+/// Removes the folders made so far, unless the predicate says to keep them.
+void remove_temp_dirs();
 
 }  // namespace mesh4d::testing
