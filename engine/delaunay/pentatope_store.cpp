@@ -57,15 +57,23 @@ void PentatopeStore::merge(CellAllocator& a) {
 }
 
 VertexId PentatopeStore::add_vertex(const Point4& p, VertexKind kind, std::uint32_t owner) {
-  const std::size_t v = vertex_slots_.fetch_add(1, std::memory_order_relaxed);
-  if (v >= kNoVertex) throw std::length_error("PentatopeStore: out of vertex ids");
-  vertices_.ensure(v + 1);
-  points_.ensure(v + 1);
-  owners_.ensure(v + 1);
-  points_[v] = p;
-  vertices_[v] = Vertex{kNoCell, kind};
-  owners_[v] = owner;
-  return static_cast<VertexId>(v);
+  return add_vertices({&p, 1}, kind, owner);
+}
+
+VertexId PentatopeStore::add_vertices(std::span<const Point4> points, VertexKind kind,
+                                      std::uint32_t owner) {
+  const std::size_t first = vertex_slots_.fetch_add(points.size(), std::memory_order_relaxed);
+  if (first + points.size() > kNoVertex)
+    throw std::length_error("PentatopeStore: out of vertex ids");
+  vertices_.ensure(first + points.size());
+  points_.ensure(first + points.size());
+  owners_.ensure(first + points.size());
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    points_[first + k] = points[k];
+    vertices_[first + k] = Vertex{kNoCell, kind};
+    owners_[first + k] = owner;
+  }
+  return static_cast<VertexId>(first);
 }
 
 void PentatopeStore::prepare_concurrent(std::size_t max_vertices) {

@@ -10,9 +10,10 @@
 
 #include <atomic>
 #include <cstdint>
+#include <span>
 
-#include "support/chunked_array.h"
 #include "delaunay/point4.h"
+#include "support/chunked_array.h"
 
 namespace mesh4d::delaunay {
 
@@ -115,6 +116,9 @@ class PentatopeStore {
   /// A new vertex (thread-safe: ids come from an atomic counter, so they still order vertices
   /// by age). `owner` is its lock word's first value (0: unlocked).
   VertexId add_vertex(const Point4& p, VertexKind kind, std::uint32_t owner = 0);
+  /// New vertices with consecutive ids, the first returned (thread-safe too): their ids order
+  /// them against every other vertex alike.
+  VertexId add_vertices(std::span<const Point4> points, VertexKind kind, std::uint32_t owner = 0);
   /// The lock word of vertex v (VertexLocks): 0, or the id of the thread that holds it.
   std::uint32_t& owner(VertexId v) { return owners_[v]; }
 

@@ -73,6 +73,12 @@ VertexId Triangulation::new_vertex(const Point4& p, VertexKind kind, std::uint32
   return store_.add_vertex(p, kind, owner);
 }
 
+VertexId Triangulation::new_vertices(std::span<const Point4> points, VertexKind kind,
+                                     std::uint32_t owner) {
+  vertex_count_.fetch_add(points.size(), std::memory_order_relaxed);
+  return store_.add_vertices(points, kind, owner);
+}
+
 void Triangulation::discard_vertex(VertexId v) {
   store_.vertex(v).kind = VertexKind::removed;
   vertex_count_.fetch_sub(1, std::memory_order_relaxed);

@@ -119,6 +119,9 @@ class Triangulation {
   /// A vertex for a concurrent insertion (its id orders it by age), locked by `owner`; counted
   /// in number_of_vertices(). discard_vertex() undoes it when the insertion rolls back.
   VertexId new_vertex(const Point4& p, VertexKind kind, std::uint32_t owner);
+  /// new_vertex() for each point, with consecutive ids (the first returned): in periodic time a
+  /// point's copies, which ties between cospherical points must order alike in every sheet.
+  VertexId new_vertices(std::span<const Point4> points, VertexKind kind, std::uint32_t owner);
   void discard_vertex(VertexId v);
 
   /// Stamps run low after some 2·10⁹ cavity searches; a parallel phase checks this before each

@@ -207,12 +207,22 @@ Outcome Operation::insert_copies_claimed(Worker& w, const Point4& point, VertexK
       if (active[s]) state_.features.add(copies[s]);
   }
   // Nothing can roll back from here on.
+  // The copies' ids are consecutive, as on one thread: the symbolic tie-break between
+  // cospherical points orders them by id, and only where every class's copies are in the same
+  // order in each sheet is the covering the same in each (with the ids of two copies taken as
+  // another thread made a vertex between them, the ventricle's covering was triangulated
+  // differently in two sheets where points were cospherical, and its glued mesh had a vertex
+  // whose link was not a sphere though the covering's middle sheet had none).
+  std::vector<Point4> made;
+  for (int s = 0; s < 3; ++s)
+    if (active[s]) made.push_back(copies[s]);
+  VertexId next = state_.tri.new_vertices(made, kind, w.guard ? w.locks.owner() : 0);
   std::vector<VertexId> removed;
   for (int s = 0; s < 3; ++s) {
     if (!active[s]) continue;
     std::swap(w.ws->cavity, w.copy_cavity[s]);
     w.near.swap(w.copy_near[s]);
-    commit_insertion(w, copies[s], kind, rule);
+    commit_insertion(w, copies[s], kind, rule, next++);
     removed.insert(removed.end(), w.removed.begin(), w.removed.end());
   }
   if (rule == Rule::R5) remove_twins(w, removed);
@@ -317,11 +327,13 @@ Outcome Operation::insert_one(Worker& w, const Point4& point, VertexKind kind, C
   return Outcome::done;
 }
 
-void Operation::commit_insertion(Worker& w, const Point4& point, VertexKind kind, Rule rule) {
+void Operation::commit_insertion(Worker& w, const Point4& point, VertexKind kind, Rule rule,
+                                 VertexId v) {
   const auto& st = state_.tri.store();
   w.removed.clear();
   if (observer_) observer_->before_commit(w, rule == Rule::R5);
-  const VertexId v = state_.tri.new_vertex(point, kind, w.guard ? w.locks.owner() : 0);
+  if (v == delaunay::kNoVertex)
+    v = state_.tri.new_vertex(point, kind, w.guard ? w.locks.owner() : 0);
   if (w.guard) w.locks.adopt(v);
   if (state_.covering.active()) {
     std::unique_lock lock(copies_mutex_, std::defer_lock);

@@ -74,7 +74,9 @@ class Operation {
   void check_budget(const Point4& point) const;
   // The rest of an insertion once its cavity (w.ws->cavity) and, for R5, the free vertices near
   // it (w.near) are claimed: the vertex, the commit, R5's removals, the new pentatopes admitted.
-  void commit_insertion(Worker& w, const Point4& point, delaunay::VertexKind kind, Rule rule);
+  /// Inserts the point whose cavity is w's, as vertex v (made already), or as a new vertex.
+  void commit_insertion(Worker& w, const Point4& point, delaunay::VertexKind kind, Rule rule,
+                        mesh4d::VertexId v = delaunay::kNoVertex);
   // Whether the copies' regions (w.region, copy s in [region_end[s], region_end[s + 1])) surely
   // share no pentatope and border none of each other's.
   bool regions_apart(const Worker& w, const std::array<std::size_t, 4>& region_end);
