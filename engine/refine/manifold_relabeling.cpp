@@ -273,6 +273,7 @@ std::vector<std::vector<ManifoldRelabeling::Move>> ManifoldRelabeling::options_a
 void ManifoldRelabeling::apply(const std::vector<Move>& moves) {
   for (const Move& m : moves) {
     journal_.push_back({m.cell, state_.output_label(m.cell)});
+    if (undo_log_) undo_log_->push_back(journal_.back());
     state_.set_label(m.cell, m.to);
     const auto& v = state_.tri.store().cell(m.cell).v;
     touched_.insert(touched_.end(), std::begin(v), std::end(v));

@@ -113,6 +113,9 @@ class ManifoldRelabeling {
   std::unordered_map<std::uint64_t, bool> current_;  // (vertex << 16 | label) -> fails
   std::vector<mesh4d::VertexId> touched_;            // vertices of the pentatopes moved this round
   std::vector<Move> journal_;                        // applied moves, with the label each left
+  // While apply_mended mends: every move applied, with the label it left (undone in reverse, it
+  // gives back the labels from before, whatever the mending undid itself meanwhile).
+  std::vector<Move>* undo_log_ = nullptr;
   // While piece matching mends around a cut: moves that give a pentatope guarded_label_ are
   // not allowed when guard_ holds after them (the cut piece joined again).
   std::function<bool()> guard_;

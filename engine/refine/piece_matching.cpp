@@ -166,14 +166,11 @@ bool ManifoldRelabeling::apply_mended(const std::vector<Move>& moves,
   std::sort(labels.begin(), labels.end());
   labels.erase(std::unique(labels.begin(), labels.end()), labels.end());
   const std::size_t before = static_cast<std::size_t>(failing_over(moves, labels, true));
-  // The labels as they were, for the undo (the manifold step's moves are not journaled).
-  std::vector<std::pair<CellId, Label>> saved;
-  if (gain < 0)
-    for (CellId c = 0; c < state_.tri.store().cell_slots(); ++c)
-      if (state_.tri.store().is_live(c)) saved.push_back({c, state_.output_label(c)});
+  // Every move made here with the label it left, the mending's too, for the undo.
+  std::vector<Move> undo;
   std::vector<VertexId> around;
   for (const Move& m : moves) {
-    if (gain >= 0) saved.push_back({m.cell, state_.output_label(m.cell)});
+    undo.push_back({m.cell, state_.output_label(m.cell)});
     state_.set_label(m.cell, m.to);
     for (VertexId v : state_.tri.store().cell(m.cell).v) around.push_back(v);
   }
@@ -184,7 +181,9 @@ bool ManifoldRelabeling::apply_mended(const std::vector<Move>& moves,
     std::sort(around.begin(), around.end());
     around.erase(std::unique(around.begin(), around.end()), around.end());
     if (guarded) guard_ = [&] { return !done(); }, guarded_label_ = label;
+    undo_log_ = &undo;
     const Outcome mended = run(&around);
+    undo_log_ = nullptr;
     guard_ = nullptr;
     moved += mended.moved;
     kept = mended.failing.size() <= before + spare && done();
@@ -203,8 +202,8 @@ bool ManifoldRelabeling::apply_mended(const std::vector<Move>& moves,
   stars_.clear();
   current_.clear();
   if (!kept) {
-    for (const auto& [c, l] : saved)
-      if (state_.output_label(c) != l) state_.set_label(c, l);
+    for (auto m = undo.rbegin(); m != undo.rend(); ++m)
+      if (state_.output_label(m->cell) != m->to) state_.set_label(m->cell, m->to);
     return false;
   }
   out.links_mended += static_cast<std::size_t>(std::max(gain, 0L));
