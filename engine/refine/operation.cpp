@@ -208,15 +208,17 @@ Outcome Operation::insert_copies_claimed(Worker& w, const Point4& point, VertexK
   }
   // Nothing can roll back from here on.
   // The copies' ids are consecutive, as on one thread: the symbolic tie-break between
-  // cospherical points orders them by id, and only where every class's copies are in the same
-  // order in each sheet is the covering the same in each (with the ids of two copies taken as
-  // another thread made a vertex between them, the ventricle's covering was triangulated
-  // differently in two sheets where points were cospherical, and its glued mesh had a vertex
-  // whose link was not a sphere though the covering's middle sheet had none).
-  std::vector<Point4> made;
+  // cospherical points orders them by id, and the sheets are triangulated alike only where any
+  // two vertices are in the same order as their translates. (Taken copy by copy, another
+  // thread's vertex could fall between two copies: the ventricle's covering was then
+  // triangulated differently in two sheets, and its glued mesh had a non-manifold vertex that
+  // the middle sheet did not have.)
+  std::array<Point4, 3> made;
+  std::size_t count = 0;
   for (int s = 0; s < 3; ++s)
-    if (active[s]) made.push_back(copies[s]);
-  VertexId next = state_.tri.new_vertices(made, kind, w.guard ? w.locks.owner() : 0);
+    if (active[s]) made[count++] = copies[s];
+  VertexId next =
+      state_.tri.new_vertices({made.data(), count}, kind, w.guard ? w.locks.owner() : 0);
   std::vector<VertexId> removed;
   for (int s = 0; s < 3; ++s) {
     if (!active[s]) continue;
