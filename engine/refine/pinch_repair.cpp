@@ -76,6 +76,8 @@ std::size_t PinchRepair::count_from_facet_changes(std::vector<PinchedTriangle>* 
           PinchKey key{l, 0, 0, 0};
           for (int k = 0, m = 1; k < 4; ++k)
             if (k != skip) key[m++] = f.facet[k];
+          // As the full count: in periodic time the middle sheet's triangles only.
+          if (!scan_.counts_triangle({key[1], key[2], key[3]})) continue;
           counts_.add(key, f.delta, f.cell);
         }
       }

@@ -1,6 +1,7 @@
 #include "refine/pinch_scan.h"
 
 #include <algorithm>
+#include <iterator>
 #include <tuple>
 
 #include "delaunay/facet_key.h"
@@ -53,6 +54,7 @@ std::size_t PinchScan::count(std::vector<PinchedTriangle>* pinched, PinchCounts*
     int facet;
   };
   const auto& st = state_.tri.store();
+  const bool periodic = state_.covering.active();
   const unsigned parts = scan_parts(st.cell_slots());
   std::vector<std::vector<std::vector<Record>>> records(parts,
                                                         std::vector<std::vector<Record>>(parts));
@@ -67,6 +69,12 @@ std::size_t PinchScan::count(std::vector<PinchedTriangle>* pinched, PinchCounts*
       const domain::Label own = state_.label_of(c);  // read once: up to 21 uses below
       if (!state_.output_region(own)) continue;
       const auto& cell = st.cell(c);
+      // In periodic time a triangle counts where its lowest vertex is in the middle sheet: a
+      // pentatope with no vertex there has none (most of the margins' pentatopes).
+      if (periodic && std::none_of(std::begin(cell.v), std::end(cell.v), [&](VertexId v) {
+            return state_.covering.in_middle(st.point(v)[3]);
+          }))
+        continue;
       for (int i = 0; i < 5; ++i) {
         const CellId n = cell.n[i];
         const domain::Label other = state_.output_label(n);
@@ -76,6 +84,7 @@ std::size_t PinchScan::count(std::vector<PinchedTriangle>* pinched, PinchCounts*
           Record r{{own, 0, 0, 0}, 0, c, i};
           for (int k = 0, m = 1; k < 4; ++k)
             if (k != skip) r.key[m++] = facet[k];
+          if (periodic && !counts_triangle({r.key[1], r.key[2], r.key[3]})) continue;
           r.hash = hash_key(r.key[0], r.key[1], r.key[2], r.key[3]);
           records[part][bucket_of(r.hash, parts)].push_back(r);
         }
@@ -223,11 +232,11 @@ void PinchScan::pinches_at(CellId start, const std::array<VertexId, 3>& t,
   }
 }
 
-bool PinchScan::counted(const PinchedTriangle& p) const {
+bool PinchScan::counts_triangle(const Triangle& t) const {
   if (!state_.covering.active()) return true;
   const auto& st = state_.tri.store();
-  double lowest = st.point(p.triangle[0])[3];
-  for (VertexId v : p.triangle) lowest = std::min(lowest, st.point(v)[3]);
+  double lowest = st.point(t[0])[3];
+  for (VertexId v : t) lowest = std::min(lowest, st.point(v)[3]);
   return state_.covering.counts(lowest);
 }
 

@@ -30,7 +30,8 @@ class PinchScan {
 
   /// Every pinch, from a scan of the whole triangulation, on up to RefineParams::threads
   /// threads. With `counts`, also every triangle's count; with `only_if_pinched`, `counts` stays
-  /// empty when there is no pinch (the repair then stops, and the table would go unused).
+  /// empty when there is no pinch (the repair then stops, and the table would go unused). In
+  /// periodic time only the triangles the covering counts (counts_triangle).
   std::size_t count(std::vector<PinchedTriangle>* pinched, PinchCounts* counts = nullptr,
                     bool only_if_pinched = false) const;
   /// The pentatopes around triangle t, in order, from `start` (which must contain t), and for
@@ -41,9 +42,11 @@ class PinchScan {
   /// `start`, which must contain it.
   void pinches_at(delaunay::CellId start, const std::array<mesh4d::VertexId, 3>& t,
                   std::vector<PinchedTriangle>* pinched) const;
-  /// Whether pinch p is one the periodic covering counts (its triangle's lowest vertex in the
-  /// middle sheet; the others are its copies, or the cut-off ends' artefacts); always in open time.
-  bool counted(const PinchedTriangle& p) const;
+  /// Whether the periodic covering counts triangle t: its lowest vertex lies in the middle
+  /// sheet (the others are its copies, or the cut-off ends' artefacts). Always in open time.
+  bool counts_triangle(const Triangle& t) const;
+  /// Whether pinch p is on a triangle the covering counts.
+  bool counted(const PinchedTriangle& p) const { return counts_triangle(p.triangle); }
   /// The pinches on the triangles of these pentatopes.
   std::vector<PinchedTriangle> pinches_on(const std::vector<delaunay::CellId>& cells) const;
   /// By triangle, then label, each one's facets sorted: how a list was found (a full count, the

@@ -12,6 +12,7 @@
 
 #include "delaunay/checker.h"
 #include "domain/image_io.h"
+#include "domain/periodic_time.h"
 #include "domain/phantoms.h"
 #include "domain/segmentation_cleanup.h"
 #include "mesh/topology_certificate.h"
@@ -129,17 +130,12 @@ TEST(Refiner, VentricleGetsBothLabels) {
   EXPECT_EQ(components, 2u);
 }
 
-// The repair's rounds count pinches from the facet changes of their operations; each count is
-// checked against a full scan (the refiner throws on a difference), with one thread and with
-// two (whose logs are applied one worker after the other). The phantom needs several rounds, so
-// some counts must have been compared.
-TEST(Refiner, PinchCountsFromFacetChangesMatchFullCounts) {
-  auto image = domain::beating_ventricle_phantom({50, 50, 22, 8}, {3.54, 3.54, 12, 2});
-  domain::validate_and_close(image);
-  const domain::SurfaceOracle oracle(image);
+// Refines with the repair's counts from facet changes checked against full scans (the refiner
+// throws on a difference), with one thread and with two (whose logs are applied one worker
+// after the other); the image must need several rounds, so that some counts are compared.
+void expect_pinch_counts_from_facet_changes_checked(const domain::SurfaceOracle& oracle,
+                                                    RefineParams params) {
   for (unsigned threads : {1u, 2u}) {
-    RefineParams params;
-    params.delta = 6;
     params.threads = threads;
     Refiner refiner(oracle, params);
     refiner.set_pinch_count_check(true);
@@ -150,6 +146,33 @@ TEST(Refiner, PinchCountsFromFacetChangesMatchFullCounts) {
                 refiner.pinch_counts_checked());
     EXPECT_GT(refiner.pinch_counts_checked(), 0u) << threads << " threads: nothing was compared";
   }
+}
+
+// The repair's rounds count pinches from the facet changes of their operations.
+TEST(Refiner, PinchCountsFromFacetChangesMatchFullCounts) {
+  auto image = domain::beating_ventricle_phantom({50, 50, 22, 8}, {3.54, 3.54, 12, 2});
+  domain::validate_and_close(image);
+  const domain::SurfaceOracle oracle(image);
+  RefineParams params;
+  params.delta = 6;
+  expect_pinch_counts_from_facet_changes_checked(oracle, params);
+}
+
+// In periodic time both counts take the triangles the covering counts only (lowest vertex in
+// the middle sheet): the ventricle's cycle in a 3-sheeted covering.
+TEST(Refiner, PinchCountsFromFacetChangesMatchFullCountsOfTheMiddleSheet) {
+  domain::LabelImage4 cycle =
+      domain::beating_ventricle_phantom({50, 50, 22, 12}, {3.54, 3.54, 12, 1});
+  cycle.set_time_spacing(8);
+  const domain::TimePeriod period = domain::cycle_period(cycle);
+  domain::LabelImage4 covering = domain::tile_cycle(cycle, 12);
+  domain::validate_and_close(covering);
+  const domain::SurfaceOracle oracle(covering);
+  RefineParams params;
+  params.delta = 6;
+  params.period_start = period.start;
+  params.period = period.length;
+  expect_pinch_counts_from_facet_changes_checked(oracle, params);
 }
 
 // When the progress reports were sent: the forced one after the rules' first pass comes before
