@@ -36,25 +36,30 @@ constexpr int kPasses = 3;
 // Pentatope slots per thread, at least, when the pieces are found on the job's threads.
 constexpr std::size_t kMinShare = std::size_t{1} << 16;
 
-// The piece of the voxel nearest to each live finite pentatope's circumcenter, by cell (the
-// passes over the pieces move labels, not circumcenters: it is found once for them all).
-std::vector<std::uint32_t> nearest_pieces(const RefinementState& state) {
-  const auto& st = state.tri.store();
-  const std::size_t slots = st.cell_slots();
-  std::vector<std::uint32_t> nearest(slots, FacePieces::kNoPiece);
-  const unsigned parts = support::parts_for(slots, kMinShare, working_threads(state.params));
-  support::run_parts(parts, [&](unsigned part) {
-    const auto [begin, end] = support::part_range(slots, part, parts);
-    for (std::size_t c = begin; c < end; ++c)
-      if (st.is_live(static_cast<CellId>(c)) && state.info[c].finite)
-        nearest[c] = state.oracle.nearest_piece(state.info[c].center);
-  });
-  return nearest;
-}
+// The piece of the voxel nearest to a pentatope's circumcenter, by cell, looked up the first
+// time a pass finds the pentatope in an output region (the passes move labels, not
+// circumcenters: one lookup serves them all; the background's pentatopes, more than a third of a
+// heart's, are never looked up).
+class NearestPieces {
+ public:
+  explicit NearestPieces(const RefinementState& state)
+      : state_(state), piece_(state.tri.store().cell_slots(), kNotLookedUp) {}
+  /// Safe on the job's threads for distinct cells.
+  std::uint32_t operator()(CellId c) {
+    std::uint32_t& p = piece_[c];
+    if (p == kNotLookedUp) p = state_.oracle.nearest_piece(state_.info[c].center);
+    return p;
+  }
+
+ private:
+  static constexpr std::uint32_t kNotLookedUp = FacePieces::kNoPiece - 1;
+  const RefinementState& state_;
+  std::vector<std::uint32_t> piece_;
+};
 
 // The regions' facet-connected pieces, and the image piece each pentatope stands for.
 struct RegionPieces {
-  RegionPieces(const RefinementState& state, const std::vector<std::uint32_t>& nearest)
+  RegionPieces(const RefinementState& state, NearestPieces& nearest)
       : found(state.tri.store().cell_slots()) {
     const auto& st = state.tri.store();
     const std::size_t slots = st.cell_slots();
@@ -75,7 +80,7 @@ struct RegionPieces {
         if (!state.output_region(l)) l = 0;
         label[c] = l;
         if (l == 0) continue;
-        const std::uint32_t p = nearest[c];
+        const std::uint32_t p = nearest(static_cast<CellId>(c));
         if (p != FacePieces::kNoPiece && image_pieces[p].label == l) image_piece[c] = p;
       }
     });
@@ -274,7 +279,7 @@ PieceMatching ManifoldRelabeling::match_image_pieces(bool leave_links) {
     return moves;
   };
 
-  const std::vector<std::uint32_t> nearest = nearest_pieces(state_);
+  NearestPieces nearest(state_);
   for (int pass = 0; pass < kPasses; ++pass) {
     RegionPieces pieces(state_, nearest);
     out.unseparated.clear();  // those of the last pass: the earlier ones may have been cut since
