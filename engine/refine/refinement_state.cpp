@@ -83,6 +83,12 @@ void RefinementState::insert_junctions() {
 
 namespace {
 
+// Periodic time: a pentatope's vertices in the order of their points, so that every translate
+// measures its circumball in the same order (translate_invariant_label).
+void sort_by_point(const Point4* vertices[5]) {
+  std::sort(vertices, vertices + 5, [](const Point4* a, const Point4* b) { return *a < *b; });
+}
+
 // A pentatope whose double center has no error bound: its ball from exact determinants. Where
 // the double determinant rounds to zero, though the exact orientation is positive, the
 // pentatope would otherwise take no rule and no label, and stand as a hole of the background
@@ -136,9 +142,43 @@ void RefinementState::admit(const std::vector<CellId>& cells) {
     if (st.is_infinite(c)) continue;
     group[n] = c;
     for (int k = 0; k < 5; ++k) vertices[n][k] = &st.point(st.cell(c).v[k]);
+    if (covering.active()) sort_by_point(vertices[n]);
     if (++n == 4) measure();
   }
   if (n > 0) measure();
+}
+
+domain::Label RefinementState::translate_invariant_label(CellId c) const {
+  const CellInfo& own = info[c];
+  const auto& st = tri.store();
+  // The periods that move c's anchor into the middle sheet; none for a representative, whose
+  // own circumball admit() measured from its points in order, and none for a pentatope with a
+  // box corner, which has no translates.
+  const double a = PeriodicCovering::anchor(tri, c);
+  const domain::TimePeriod& period = covering.period();
+  const double shift = a < period.start ? period.length : -period.length;
+  if (covering.in_middle(a) || !covering.in_middle(a + shift)) return oracle.label_at(own.center);
+  Point4 moved[5];
+  const Point4* vertices[4][5];
+  for (int k = 0; k < 5; ++k) {
+    const VertexId v = st.cell(c).v[k];
+    if (v == delaunay::kInfiniteVertex || st.vertex(v).kind == VertexKind::box)
+      return oracle.label_at(own.center);
+    moved[k] = st.point(v);
+    moved[k][3] += shift;  // exact: times lie on the grid of kTimeQuantum
+    vertices[0][k] = &moved[k];
+  }
+  sort_by_point(vertices[0]);
+  for (int l = 1; l < 4; ++l) std::copy(vertices[0], vertices[0] + 5, vertices[l]);
+  // admit()'s arithmetic on the middle sheet's translate.
+  delaunay::Circumball balls[4];
+  delaunay::circumballs4(vertices, balls);
+  CellInfo middle;
+  middle.center = balls[0].center;
+  if (!std::isfinite(balls[0].center_error) && !exact_ball(vertices[0], middle) &&
+      !std::isfinite(middle.center[0]))
+    return oracle.label_at(own.center);
+  return oracle.label_at(middle.center);
 }
 
 void RefinementState::prepare_concurrent() {

@@ -81,13 +81,16 @@ class RefinementState final : public delaunay::ConflictFilter {
   void prepare_concurrent();
 
   /// The label at a finite pentatope's circumcenter (or the one relabeling gave it), computed
-  /// on the first request. Two threads may compute it at once: they store the same value.
+  /// on the first request. Two threads may compute it at once: they store the same value. In
+  /// periodic time every translate of a pentatope gets the same label (translate_invariant_label).
   domain::Label label_of(delaunay::CellId c) const {
     const CellInfo& i = info[c];
     std::atomic_ref<std::uint32_t> code(i.label_code);
     std::uint32_t k = code.load(std::memory_order_relaxed);
     if (k == 0) {
-      k = std::uint32_t{oracle.label_at(i.center)} + 1;
+      k = std::uint32_t{covering.active() ? translate_invariant_label(c)
+                                          : oracle.label_at(i.center)} +
+          1;
       code.store(k, std::memory_order_relaxed);
     }
     return static_cast<domain::Label>(k - 1);
@@ -143,6 +146,12 @@ class RefinementState final : public delaunay::ConflictFilter {
   }
 
   void set_twin_labels(delaunay::CellId c, domain::Label label);
+  // Periodic time: the label at the circumcenter of c's translate anchored in the middle sheet,
+  // computed from the same points in the same order as that translate's own, so the same bit
+  // for bit. A translate's own rounded center is not: where the pentatope is near flat the
+  // centers of two translates may differ by a good part of a voxel, on either side of a label's
+  // boundary, and the glued mesh would have two labels for one pentatope.
+  domain::Label translate_invariant_label(delaunay::CellId c) const;
 
   bool concurrent_ready_ = false;
 };

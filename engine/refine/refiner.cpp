@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -28,6 +29,7 @@
 #include "refine/progress_meter.h"
 #include "refine/relabeling.h"
 #include "refine/sequential_refiner.h"
+#include "refine/translate_labels.h"
 
 namespace mesh4d::refine {
 namespace {
@@ -63,13 +65,16 @@ RefineParams validated(const RefineParams& params) {
 // Times the stages one after another; the rules' time inside a stage goes to Stage::rules.
 class StageClock {
  public:
-  StageClock(const double& rules_seconds, StageSeconds& out)
-      : rules_(rules_seconds), rules_at_(rules_seconds), out_(out) {}
+  /// `after_lap`, when set, runs after each stage, outside its time (the tests' checks).
+  StageClock(const double& rules_seconds, StageSeconds& out,
+             std::function<void(Stage)> after_lap = {})
+      : rules_(rules_seconds), rules_at_(rules_seconds), out_(out), after_lap_(after_lap) {}
   void lap(Stage stage) {
-    const auto now = std::chrono::steady_clock::now();
+    auto now = std::chrono::steady_clock::now();
     const double rules = rules_ - rules_at_;
     out_[stage] += std::chrono::duration<double>(now - t_).count() - rules;
     out_[Stage::rules] += rules;
+    if (after_lap_) after_lap_(stage), now = std::chrono::steady_clock::now();
     t_ = now;
     rules_at_ = rules_;
   }
@@ -78,6 +83,7 @@ class StageClock {
   const double& rules_;
   double rules_at_;
   StageSeconds& out_;
+  std::function<void(Stage)> after_lap_;
   std::chrono::steady_clock::time_point t_ = std::chrono::steady_clock::now();
 };
 
@@ -256,6 +262,8 @@ struct Refiner::Pipeline {
   double rules_seconds = 0;
   bool check_failing_lists = false;
   std::size_t failing_lists_checked = 0;
+  bool check_translate_labels = false;
+  std::size_t translate_labels_checked = 0;
 };
 
 Refiner::Refiner(const domain::SurfaceOracle& oracle, const RefineParams& params)
@@ -293,7 +301,19 @@ RefineResult Refiner::run(ProgressSink* sink) {
   Pipeline& p = *pipeline_;
   p.meter.start();
   RefineResult result;
-  StageClock clock(p.rules_seconds, result.stages);
+  const auto check_translates = [&p](Stage stage) {
+    const TranslateLabels compared = compare_translate_labels(p.state);
+    p.translate_labels_checked += compared.translates;
+    if (compared.mismatched > 0)
+      throw std::logic_error(
+          "after the " + std::string(stage_name(stage)) + " stage, " +
+          std::to_string(compared.mismatched) +
+          " translates carry another label than their representative: " + compared.first);
+  };
+  StageClock clock(p.rules_seconds, result.stages,
+                   p.check_translate_labels && p.state.covering.active()
+                       ? std::function<void(Stage)>(check_translates)
+                       : std::function<void(Stage)>());
   p.start();
   clock.lap(Stage::start);
   p.drain(sink);
@@ -419,6 +439,12 @@ void Refiner::set_failing_list_check(bool on) {
 }
 std::size_t Refiner::failing_lists_checked() const {
   return pipeline_->failing_lists_checked;
+}
+void Refiner::set_translate_label_check(bool on) {
+  pipeline_->check_translate_labels = on;
+}
+std::size_t Refiner::translate_labels_checked() const {
+  return pipeline_->translate_labels_checked;
 }
 
 RefineResult refine(const domain::SurfaceOracle& oracle, const RefineParams& params,

@@ -107,6 +107,11 @@ class Refiner final {
   /// sampling throws std::logic_error. failing_lists_checked() says how many were compared.
   void set_failing_list_check(bool on);
   std::size_t failing_lists_checked() const;
+  /// Tests, periodic time: after every stage each representative's translates must carry its
+  /// label (translate_labels.h), or run() throws std::logic_error naming the stage;
+  /// translate_labels_checked() says how many translates were compared.
+  void set_translate_label_check(bool on);
+  std::size_t translate_labels_checked() const;
 
  private:
   struct Pipeline;

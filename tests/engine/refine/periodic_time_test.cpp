@@ -126,7 +126,11 @@ void expect_periodic_delaunay_glued_at_the_seam(std::size_t margin_frames,
   params.threads = threads;
   const double trusted = trusted_frames > 0 ? params.period_trusted : margin / 2;
   Refiner refiner(oracle, params);
-  const RefineResult r = refiner.run();
+  // After every stage, every pentatope's translates carry its label (the run throws if not).
+  refiner.set_translate_label_check(true);
+  RefineResult r;
+  ASSERT_NO_THROW(r = refiner.run());
+  EXPECT_GT(refiner.translate_labels_checked(), 1000u);
 
   const auto& tri = refiner.triangulation();
   const delaunay::CheckResult valid = delaunay::check_triangulation(tri);
