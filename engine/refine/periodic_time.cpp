@@ -10,8 +10,8 @@
 namespace mesh4d::refine {
 
 std::size_t periodic_margin_frames(const domain::LabelImage4& cycle, double delta) {
-  const double frames = std::ceil(4 * kLabeledReach * delta / cycle.spacing()[3] - 1e-9);
-  return std::min(cycle.dims()[3], static_cast<std::size_t>(std::max(frames, 1.0)));
+  const double band = std::ceil(periodic_trusted_reach(delta) / cycle.spacing()[3] - 1e-9);
+  return std::min(cycle.dims()[3], static_cast<std::size_t>(std::max(band, 1.0)) + 1);
 }
 
 RefineResult refine_periodic(const domain::LabelImage4& cycle, const RefineParams& params,
@@ -29,6 +29,7 @@ RefineResult refine_periodic(const domain::LabelImage4& cycle, const RefineParam
   periodic.period = period.length;
   periodic.period_margin =
       margin == cycle.dims()[3] ? 0 : static_cast<double>(margin) * cycle.spacing()[3];
+  periodic.period_trusted = std::min(periodic_trusted_reach(params.delta), period.length);
   RefineResult result = refine(oracle, periodic, sink);
   // What is left failing, counted on the glued cycle.
   std::size_t links = 0, pinched = 0;

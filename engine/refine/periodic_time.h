@@ -19,9 +19,13 @@ namespace mesh4d::refine {
 /// 3 Δ the covering's margins cost a tenth more time for the same fidelity).
 inline constexpr double kLabeledReach = 2;
 
-/// The covering's margin past each end of the period, in frames: enough for pentatopes of
-/// circumradius kLabeledReach · Δ anchored up to half of it past the period to have their
-/// circumballs inside (four times that reach), at most a whole period.
+/// How far the covering's trusted band reaches past each end of the period: a pentatope through
+/// a vertex of the middle sheet, of circumradius up to kLabeledReach · Δ, has its circumball in
+/// it (twice that reach).
+inline double periodic_trusted_reach(double delta) { return 2 * kLabeledReach * delta; }
+
+/// The covering's margin past each end of the period, in frames: the trusted band and one frame
+/// more, so that the tiled image's cut-off ends lie a frame away from it; at most a whole period.
 std::size_t periodic_margin_frames(const domain::LabelImage4& cycle, double delta);
 
 /// Meshes `cycle` (cleaned, not closed) as periodic in time, from half a frame before its first

@@ -263,10 +263,25 @@ TEST(PeriodicTime, ACoveringCutOffTwoFramesPastItsTrustedBandGivesAGluedCycleToo
   expect_periodic_delaunay_glued_at_the_seam(6, 4);
 }
 
+// The covering a job takes (refine_periodic): its trusted band, and one frame more.
+std::pair<std::size_t, std::size_t> job_covering_frames() {
+  const domain::LabelImage4 cycle =
+      domain::beating_ventricle_phantom({50, 50, 22, 12}, {3.54, 3.54, 12, 8});
+  const auto band = static_cast<std::size_t>(std::lround(periodic_trusted_reach(8) / 8));
+  return {periodic_margin_frames(cycle, 8), band};
+}
+
+TEST(PeriodicTime, TheJobsCoveringOneFramePastItsTrustedBandGivesAGluedCycle) {
+  const auto [margin, trusted] = job_covering_frames();
+  EXPECT_EQ(margin, trusted + 1);
+  expect_periodic_delaunay_glued_at_the_seam(margin, trusted);
+}
+
 // On threads, every point's copies are claimed and committed as one operation (or, where their
 // regions touch, the operation runs alone): the covering stays periodic and Delaunay.
 TEST(PeriodicTime, OnThreadsTheCoveringIsPeriodicDelaunayAndTheCycleIsGluedAtTheSeam) {
-  expect_periodic_delaunay_glued_at_the_seam(6, 4, 2);
+  const auto [margin, trusted] = job_covering_frames();
+  expect_periodic_delaunay_glued_at_the_seam(margin, trusted, 2);
 }
 
 TEST(PeriodicTime, OnMoreThreadsThanCoresTheCoveringIsPeriodicDelaunayToo) {
