@@ -66,27 +66,35 @@ void RefinementState::insert_junctions() {
       [&](const Point4& p) { features.add(p); });
   std::vector<Point4> points;
   points.reserve(junctions.size());
-  for (const auto& j : junctions) {
-    if (!covering.active()) {
-      points.push_back(j.point);
-    } else if (covering.in_middle(j.point[3])) {  // each copy once, from the middle sheet's
-      for (const Point4& p : covering.copies(j.point))
-        if (covering.in_covering(p)) points.push_back(p);
-    }
-  }
+  for (const auto& j : junctions)  // in periodic time each once, from the middle sheet's copy
+    if (covering.counts(j.point[3])) points.push_back(j.point);
   // Before any rule runs, straight into the triangulation: the first admit() sees every cell.
+  // A point's copies go in one after the other, with consecutive ids, as the rules' do.
   for (std::size_t i : delaunay::spatial_order(points)) {
-    const auto inserted = tri.insert(points[i], VertexKind::feature);
-    if (covering.active()) covering.add(inserted.vertex, points[i]);
+    if (!covering.active()) {
+      tri.insert(points[i], VertexKind::feature);
+      continue;
+    }
+    for (const Point4& p : covering.copies(points[i]))
+      if (covering.in_covering(p)) covering.add(tri.insert(p, VertexKind::feature).vertex, p);
   }
 }
 
 namespace {
 
-// Periodic time: a pentatope's vertices in the order of their points, so that every translate
-// measures its circumball in the same order (translate_invariant_label).
-void sort_by_point(const Point4* vertices[5]) {
-  std::sort(vertices, vertices + 5, [](const Point4* a, const Point4* b) { return *a < *b; });
+// Periodic time: a pentatope's vertices in the order of their ids. A point's copies are
+// inserted together, with consecutive ids, so any two vertices are in the same order as their
+// translates (periodic_covering.h), and every translate of a pentatope measures its circumball
+// from its points in the same order (translate_invariant_label). A sorting network of min and
+// max: admit() sorts every new pentatope's ids.
+void sort_ids(VertexId v[5]) {
+  static constexpr int kNetwork[9][2] = {{0, 1}, {3, 4}, {2, 4}, {2, 3}, {1, 4},
+                                         {0, 3}, {0, 2}, {1, 3}, {1, 2}};
+  for (const auto& [i, j] : kNetwork) {
+    const VertexId lo = std::min(v[i], v[j]);
+    v[j] = std::max(v[i], v[j]);
+    v[i] = lo;
+  }
 }
 
 // A pentatope whose double center has no error bound: its ball from exact determinants. Where
@@ -141,8 +149,10 @@ void RefinementState::admit(const std::vector<CellId>& cells) {
     info[c].finite = false;
     if (st.is_infinite(c)) continue;
     group[n] = c;
-    for (int k = 0; k < 5; ++k) vertices[n][k] = &st.point(st.cell(c).v[k]);
-    if (covering.active()) sort_by_point(vertices[n]);
+    VertexId v[5];
+    std::copy(std::begin(st.cell(c).v), std::end(st.cell(c).v), v);
+    if (covering.active()) sort_ids(v);
+    for (int k = 0; k < 5; ++k) vertices[n][k] = &st.point(v[k]);
     if (++n == 4) measure();
   }
   if (n > 0) measure();
@@ -152,23 +162,24 @@ domain::Label RefinementState::translate_invariant_label(CellId c) const {
   const CellInfo& own = info[c];
   const auto& st = tri.store();
   // The periods that move c's anchor into the middle sheet; none for a representative, whose
-  // own circumball admit() measured from its points in order, and none for a pentatope with a
-  // box corner, which has no translates.
+  // own circumball admit() measured from its points in the order of their ids, and none for a
+  // pentatope with a box corner, which has no translates.
   const double a = PeriodicCovering::anchor(tri, c);
   const domain::TimePeriod& period = covering.period();
   const double shift = a < period.start ? period.length : -period.length;
   if (covering.in_middle(a) || !covering.in_middle(a + shift)) return oracle.label_at(own.center);
+  VertexId v[5];
+  std::copy(std::begin(st.cell(c).v), std::end(st.cell(c).v), v);
+  sort_ids(v);
   Point4 moved[5];
   const Point4* vertices[4][5];
   for (int k = 0; k < 5; ++k) {
-    const VertexId v = st.cell(c).v[k];
-    if (v == delaunay::kInfiniteVertex || st.vertex(v).kind == VertexKind::box)
+    if (v[k] == delaunay::kInfiniteVertex || st.vertex(v[k]).kind == VertexKind::box)
       return oracle.label_at(own.center);
-    moved[k] = st.point(v);
+    moved[k] = st.point(v[k]);
     moved[k][3] += shift;  // exact: times lie on the grid of kTimeQuantum
     vertices[0][k] = &moved[k];
   }
-  sort_by_point(vertices[0]);
   for (int l = 1; l < 4; ++l) std::copy(vertices[0], vertices[0] + 5, vertices[l]);
   // admit()'s arithmetic on the middle sheet's translate.
   delaunay::Circumball balls[4];
